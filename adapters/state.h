@@ -1,0 +1,30 @@
+// One sample of a simulator's output: what every simulator streams.
+#pragma once
+
+#include "scenarios/scenario.h"
+
+#include <cstdint>
+
+namespace bouncecheck {
+
+// Time, ball centre and velocity. In 2D the third components are zero.
+struct State {
+    double t = 0;
+    Vec3 p = Vec3::Zero();
+    Vec3 v = Vec3::Zero();
+};
+
+// A highest point of the vertical coordinate between floor contacts.
+struct Apex {
+    double t = 0;
+    double height = 0;  // vertical coordinate of the centre
+};
+
+// Walls a simulator reports touching in one step, one bit per axis.
+struct ContactMask {
+    std::uint8_t lower = 0;
+    std::uint8_t upper = 0;
+    bool any() const { return (lower | upper) != 0; }
+};
+
+}  // namespace bouncecheck

@@ -1,0 +1,37 @@
+// A validated room-and-ball scenario: the immutable model every simulator runs.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <filesystem>
+#include <string>
+
+namespace bouncecheck {
+
+using Vec3 = Eigen::Vector3d;
+
+// Immutable once loaded (see scenarios/loader.h). Vectors hold `dim` used
+// components; in 2D the third component is zero and ignored. The vertical axis
+// is the last used one: index dim - 1 (z in 3D, y in 2D).
+struct Scenario {
+    std::string name;
+    std::string description;
+    std::filesystem::path source;  // file it was loaded from; empty if built in code
+
+    int dim = 3;           // 2 or 3
+    Vec3 room{1, 1, 1};    // room side lengths; the room spans [0, room[i]] on each axis
+    double radius = 0.05;  // ball radius
+    Vec3 position{0.5, 0.95, 0.5};  // ball centre at t = 0
+    Vec3 velocity{0.3, 0.1, 0.2};   // at t = 0
+    Vec3 gravity{0, 0, -0.0981};    // with its sign
+
+    double alpha = 0.8;   // normal damping: normal component reversed and scaled at a contact
+    double beta = 0.99;   // tangential damping: every other component scaled at a contact
+
+    double dt = 0.03;        // step of the stepped simulators, and sample spacing of exact
+    double duration = 42.0;  // simulated time
+
+    int vertical_axis() const { return dim - 1; }
+};
+
+}  // namespace bouncecheck
