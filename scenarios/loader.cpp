@@ -1,0 +1,579 @@
+#include "scenarios/loader.h"
+
+#include <fmt/format.h>
+
+// toml++ asserts, rather than reports, on some malformed input such as "[[[".
+// Debian's libtomlplusplus, which the build links, has assertions off and
+// reports a parse error there; keep that behaviour when the parser is compiled
+// into this file instead (header-only builds), rather than aborting.
+#if !defined(NDEBUG) && !defined(TOML_ASSERT)
+#define TOML_ASSERT(expr) static_assert(true)
+#endif
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cmath>
+#include <fstream>
+#include <optional>
+#include <set>
+#include <system_error>
+#include <utility>
+
+namespace bouncecheck {
+
+std::string Diagnostic::format() const {
+    std::string out = file;
+    if (line > 0) {
+        out += fmt::format("{}{}", out.empty() ? "" : ":", line);
+        if (column > 0) out += fmt::format(":{}", column);
+    }
+    for (const std::string* part : {&key, &reason}) {
+        if (part->empty()) continue;
+        if (!out.empty()) out += ": ";
+        out += *part;
+    }
+    return out;
+}
+
+namespace {
+
+std::string join_formatted(const std::vector<Diagnostic>& diagnostics) {
+    std::string out;
+    for (const Diagnostic& d : diagnostics) {
+        if (!out.empty()) out += '\n';
+        out += d.format();
+    }
+    return out;
+}
+
+}  // namespace
+
+ScenarioError::ScenarioError(std::vector<Diagnostic> d)
+    : std::runtime_error(join_formatted(d)), diagnostics_(std::move(d)) {}
+
+namespace {
+
+// Limits on untrusted input. A real scenario is well under 1 KiB, has a few
+// dozen '.' and values of everyday magnitude, so none of these ever bites.
+constexpr std::size_t kMaxInputBytes = std::size_t{1} << 20;
+constexpr int kMaxDotsOutsideStrings = 1000;
+// Also the range in which every integer converts to double exactly.
+constexpr double kMaxMagnitude = 1e15;
+constexpr double kMaxSteps = 1e10;
+constexpr std::size_t kMaxNameBytes = 255;  // NAME_MAX: the name becomes a folder
+constexpr std::size_t kMaxEchoBytes = 60;   // of untrusted text quoted in a reason
+
+constexpr std::array<const char*, 3> kAxisNames{"x", "y", "z"};
+
+bool is_ascii(char c) { return static_cast<unsigned char>(c) < 0x80; }
+bool is_utf8_continuation(char c) { return (static_cast<unsigned char>(c) & 0xC0) == 0x80; }
+bool is_ascii_alnum(char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9'); }
+bool is_bare_key_char(char c) { return is_ascii_alnum(c) || c == '_' || c == '-'; }
+bool is_name_char(char c) { return is_bare_key_char(c) || c == '.'; }
+
+// Control characters escaped (so a reason stays on one line), and the bytes
+// in `also` preceded by a backslash.
+std::string escaped(std::string_view s, std::string_view also = {}) {
+    std::string out;
+    for (const char ch : s) {
+        const auto c = static_cast<unsigned char>(ch);
+        if (c < 0x20 || c == 0x7F) {
+            out += fmt::format("\\u{:04X}", c);
+        } else {
+            if (also.find(ch) != std::string_view::npos) out += '\\';
+            out += ch;
+        }
+    }
+    return out;
+}
+
+// Untrusted text (keys, names) made safe to quote: escaped like a TOML basic
+// string, and cut at a character boundary if long.
+std::string printable(std::string_view s) {
+    if (s.size() <= kMaxEchoBytes) return escaped(s, "\"\\");
+    std::size_t cut = kMaxEchoBytes;
+    while (cut > 0 && is_utf8_continuation(s[cut])) --cut;
+    return escaped(s.substr(0, cut), "\"\\") + "...";
+}
+
+// Where a node or key starts; the document itself (no position) is 1:1.
+template <typename Sourced>
+toml::source_position start_of(const Sourced& sourced) {
+    const toml::source_position begin = sourced.source().begin;
+    return begin.line > 0 ? begin : toml::source_position{1, 1};
+}
+
+// Extends a dotted key path by one key, quoted as TOML would need it.
+std::string child_key(std::string_view path, std::string_view key) {
+    const bool bare = !key.empty() && std::all_of(key.begin(), key.end(), is_bare_key_char);
+    std::string part = bare ? std::string(key) : fmt::format("\"{}\"", printable(key));
+    return path.empty() ? part : fmt::format("{}.{}", path, part);
+}
+
+const char* type_name(const toml::node& node) {
+    switch (node.type()) {
+        case toml::node_type::string: return "a string";
+        case toml::node_type::integer: return "an integer";
+        case toml::node_type::floating_point: return "a floating-point number";
+        case toml::node_type::boolean: return "a boolean";
+        case toml::node_type::date: return "a date";
+        case toml::node_type::time: return "a time";
+        case toml::node_type::date_time: return "a date-time";
+        case toml::node_type::array: return "an array";
+        case toml::node_type::table: return "a table";
+        case toml::node_type::none: break;
+    }
+    return "nothing";
+}
+
+constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
+
+// Length of the well-formed UTF-8 sequence at text[i] (RFC 3629: no overlong
+// forms, surrogates or code points past U+10FFFF), or 0 if it is malformed.
+std::size_t utf8_length(std::string_view text, std::size_t i) {
+    const auto byte = [&](std::size_t k) { return i + k < text.size() ? static_cast<unsigned char>(text[i + k]) : 0u; };
+    const unsigned lead = byte(0);
+    std::size_t length = 0;
+    unsigned low = 0x80, high = 0xBF;  // the range allowed for the second byte
+    if (lead < 0x80) return 1;
+    if (lead >= 0xC2 && lead <= 0xDF) {
+        length = 2;
+    } else if (lead >= 0xE0 && lead <= 0xEF) {
+        length = 3;
+        if (lead == 0xE0) low = 0xA0;
+        if (lead == 0xED) high = 0x9F;
+    } else if (lead >= 0xF0 && lead <= 0xF4) {
+        length = 4;
+        if (lead == 0xF0) low = 0x90;
+        if (lead == 0xF4) high = 0x8F;
+    } else {
+        return 0;
+    }
+    if (byte(1) < low || byte(1) > high) return 0;
+    for (std::size_t k = 2; k < length; ++k) {
+        if ((byte(k) & 0xC0) != 0x80) return 0;
+    }
+    return length;
+}
+
+// Input that toml++ 3.3 does not survive, found before it parses.
+struct Hazard {
+    toml::source_position where;
+    std::string reason;
+};
+
+// Found by one scan that tells strings and comments apart. It follows TOML,
+// so it is exact for valid TOML and for the prefix toml++ reads before its
+// first error; past that it may be wrong, which each check allows for:
+// - Deep key paths. toml++ recurses once per level of a table path (parsing,
+//   and freeing the tree) and overflows the stack near 1e5 levels; arrays and
+//   inline tables it caps at 256 itself. Each level of a path costs a '.'
+//   outside strings and comments, so bounding those bounds the depth (dots in
+//   floats count too, erring on the safe side). toml++ stops at the first
+//   error, and the scan is exact up to there.
+// - Non-ASCII characters where toml++'s whitespace test is undefined
+//   behaviour (marzer/tomlplusplus#190): outside strings and comments, where
+//   TOML allows none anyway, and after a backslash in a multi-line basic
+//   string. The scan may miss some in invalid TOML: see ascii_stand_in.
+// - Malformed UTF-8, so that ascii_stand_in can rely on it.
+std::optional<Hazard> find_parser_hazard(std::string_view text) {
+    toml::source_position pos{1, 1};
+    std::size_t pos_index = 0;  // `pos` is the position of text[pos_index]
+    const auto position_of = [&](std::size_t index) {
+        for (; pos_index < index; ++pos_index) {
+            if (text[pos_index] == '\n') {
+                ++pos.line;
+                pos.column = 1;
+            } else if (!is_utf8_continuation(text[pos_index])) {
+                ++pos.column;  // columns count characters, not UTF-8 continuation bytes
+            }
+        }
+        return pos;
+    };
+
+    enum class State { code, comment, basic, literal, multiline_basic, multiline_literal };
+    State state = State::code;
+    int dots = 0;
+    // A byte order mark is not part of the document (toml++ skips it too).
+    for (std::size_t i = text.starts_with(kByteOrderMark) ? kByteOrderMark.size() : 0; i < text.size();) {
+        const char c = text[i];
+        std::size_t n = utf8_length(text, i);  // bytes this step consumes
+        if (n == 0) return Hazard{position_of(i), "invalid UTF-8"};
+        switch (state) {
+            case State::code:
+                if (!is_ascii(c)) {
+                    return Hazard{position_of(i), "non-ASCII character outside a string or comment"};
+                } else if (c == '#') {
+                    state = State::comment;
+                } else if (c == '"' || c == '\'') {
+                    const bool multiline = text.substr(i, 3) == (c == '"' ? R"(""")" : "'''");
+                    n = multiline ? 3 : 1;
+                    if (c == '"') state = multiline ? State::multiline_basic : State::basic;
+                    else state = multiline ? State::multiline_literal : State::literal;
+                } else if (c == '.' && ++dots > kMaxDotsOutsideStrings) {
+                    return Hazard{position_of(i),
+                                  fmt::format("more than {} '.' outside strings and comments; refusing keys "
+                                              "nested this deeply",
+                                              kMaxDotsOutsideStrings)};
+                }
+                break;
+            case State::comment:
+                if (c == '\n') state = State::code;
+                break;
+            default: {
+                const bool basic = state == State::basic || state == State::multiline_basic;
+                const bool multiline = state == State::multiline_basic || state == State::multiline_literal;
+                const char quote = basic ? '"' : '\'';
+                if (basic && c == '\\') {
+                    // An escape or a line-ending backslash: toml++ tests what follows any whitespace.
+                    const std::size_t next = std::min(text.find_first_not_of(" \t\r\n", i + 1), text.size());
+                    if (multiline && next < text.size() && !is_ascii(text[next]))
+                        return Hazard{position_of(next),
+                                      "non-ASCII character after a backslash in a multi-line string, which "
+                                      "toml++ 3.3 cannot parse safely; start the line with an ASCII character"};
+                    if (i + 1 < text.size() && is_ascii(text[i + 1])) n = 2;  // e.g. an escaped quote
+                } else if (c == quote) {
+                    // A multi-line string's closing quotes may follow up to two quotes of content.
+                    if (multiline) n = std::min(text.find_first_not_of(quote, i), text.size()) - i;
+                    if (!multiline || n >= 3) state = State::code;
+                } else if (c == '\n' && !multiline) {
+                    state = State::code;  // unterminated: a syntax error for toml++ anyway
+                }
+            }
+        }
+        i += n;
+    }
+    return std::nullopt;
+}
+
+// `text` (well-formed UTF-8) with each non-ASCII character replaced by '?'.
+// TOML allows both only in strings and comments, so the copy is valid exactly
+// when `text` is, with every token at the same line and column, and toml++
+// parses it without reaching the undefined behaviour. Once the copy parses,
+// the scan above was exact, and `text` itself is safe to parse.
+std::string ascii_stand_in(std::string_view text) {
+    const std::size_t bom = text.starts_with(kByteOrderMark) ? kByteOrderMark.size() : 0;
+    std::string out(text.substr(0, bom));
+    for (std::size_t i = bom; i < text.size(); i += std::max<std::size_t>(1, utf8_length(text, i)))
+        out += is_ascii(text[i]) ? text[i] : '?';
+    return out;
+}
+
+// A number read from the file, with where it came from for later range checks.
+struct Number {
+    double value;
+    std::string key;
+    toml::source_position where;
+};
+
+// Collects diagnostics while reading a parsed document. Every key it reads is
+// marked used, so whatever is left over is reported as unknown at the end.
+class Checker {
+public:
+    explicit Checker(std::string file) : file_(std::move(file)) {}
+
+    void report(toml::source_position where, std::string key, std::string reason) {
+        diagnostics_.push_back(
+            {file_, static_cast<int>(where.line), static_cast<int>(where.column), std::move(key), std::move(reason)});
+    }
+    void expect(bool ok, const Number& n, std::string reason) {
+        if (!ok) report(n.where, n.key, std::move(reason));
+    }
+    bool ok() const { return diagnostics_.empty(); }
+
+    [[noreturn]] void fail() {
+        std::stable_sort(diagnostics_.begin(), diagnostics_.end(), [](const Diagnostic& a, const Diagnostic& b) {
+            return std::pair(a.line, a.column) < std::pair(b.line, b.column);
+        });
+        throw ScenarioError(std::move(diagnostics_));
+    }
+
+    // Looks up `key` in a table (the document if `path` is empty) and marks it used.
+    const toml::node* get(const toml::table& table, std::string_view path, std::string_view key,
+                          bool required = true, std::string_view missing = "missing required key") {
+        watch(table, path);
+        const toml::node* node = table.get(key);
+        if (node) used_.insert(node);
+        else if (required) report(start_of(table), child_key(path, key), std::string(missing));
+        return node;
+    }
+
+    // A required top-level table, or null (reported) if missing or not a table.
+    const toml::table* table(const toml::table& root, std::string_view key) {
+        const toml::node* node = get(root, "", key, true, fmt::format("missing required table [{}]", key));
+        if (!node) return nullptr;
+        const toml::table* t = node->as_table();
+        if (!t) report(start_of(*node), std::string(key), fmt::format("expected a table, got {}", type_name(*node)));
+        return t;
+    }
+
+    // A string value, or null (reported if present with another type, or required and missing).
+    const toml::value<std::string>* string(const toml::table& root, std::string_view key, bool required) {
+        const toml::node* node = get(root, "", key, required);
+        if (!node) return nullptr;
+        const auto* s = node->as_string();
+        if (!s) report(start_of(*node), std::string(key), fmt::format("expected a string, got {}", type_name(*node)));
+        return s;
+    }
+
+    // A required number in `table` (nothing is reported if the table itself is missing).
+    std::optional<Number> number(const toml::table* table, std::string_view path, std::string_view key) {
+        const toml::node* node = table ? get(*table, path, key) : nullptr;
+        if (!node) return std::nullopt;
+        return check_number(*node, child_key(path, key));
+    }
+
+    // A required array of numbers with `dim` elements, or 2 or 3 if `dim` is
+    // 0. Empty unless every element is a valid number and the length is right.
+    std::optional<std::vector<Number>> vector(const toml::table* table, std::string_view path, std::string_view key,
+                                              int dim) {
+        const toml::node* node = table ? get(*table, path, key) : nullptr;
+        if (!node) return std::nullopt;
+        const std::string name = child_key(path, key);
+        const toml::array* array = node->as_array();
+        if (!array) {
+            report(start_of(*node), name, fmt::format("expected an array of numbers, got {}", type_name(*node)));
+            return std::nullopt;
+        }
+        const std::size_t n = array->size();
+        const bool length_ok = dim == 0 ? (n == 2 || n == 3) : n == static_cast<std::size_t>(dim);
+        if (!length_ok) {
+            report(start_of(*node), name,
+                   dim == 0 ? fmt::format("expected an array of 2 or 3 numbers, got {} elements", n)
+                            : fmt::format("expected {} numbers to match the dimension of room.size, got {}", dim, n));
+        }
+        // Elements of an array far too long are not worth a diagnostic each.
+        if (n > 3) return std::nullopt;
+        std::vector<Number> numbers;
+        for (std::size_t i = 0; i < n; ++i) {
+            if (auto number = check_number((*array)[i], fmt::format("{}[{}]", name, i)))
+                numbers.push_back(std::move(*number));
+        }
+        if (!length_ok || numbers.size() != n) return std::nullopt;
+        return numbers;
+    }
+
+    // Reports every key of a looked-at table that was never read.
+    void report_unknown_keys() {
+        for (const auto& [table, path] : watched_) {
+            for (const auto& [key, node] : *table) {
+                if (used_.count(&node)) continue;
+                const bool reserved = path.empty() && (key.str() == "engines" || key.str() == "thresholds");
+                report(start_of(key), child_key(path, key.str()),
+                       reserved ? fmt::format("unknown key: the [{}] table is reserved and not supported yet",
+                                              key.str())
+                                : std::string("unknown key"));
+            }
+        }
+    }
+
+private:
+    // Integers are accepted where numbers are expected; the value is kept exactly as parsed.
+    std::optional<Number> check_number(const toml::node& node, std::string key) {
+        Number n{0.0, std::move(key), start_of(node)};
+        if (const auto* f = node.as_floating_point()) n.value = f->get();
+        else if (const auto* i = node.as_integer()) n.value = static_cast<double>(i->get());
+        else {
+            report(n.where, n.key, fmt::format("expected a number, got {}", type_name(node)));
+            return std::nullopt;
+        }
+        if (!std::isfinite(n.value)) {
+            report(n.where, n.key, fmt::format("must be a finite number, got {}", n.value));
+            return std::nullopt;
+        }
+        if (std::abs(n.value) > kMaxMagnitude) {
+            report(n.where, n.key, fmt::format("magnitude of {} exceeds the limit of {}", n.value, kMaxMagnitude));
+            return std::nullopt;
+        }
+        return n;
+    }
+
+    void watch(const toml::table& table, std::string_view path) {
+        const bool known = std::any_of(watched_.begin(), watched_.end(),
+                                       [&](const auto& watched) { return watched.first == &table; });
+        if (!known) watched_.emplace_back(&table, std::string(path));
+    }
+
+    std::string file_;
+    std::vector<Diagnostic> diagnostics_;
+    std::set<const toml::node*> used_;
+    std::vector<std::pair<const toml::table*, std::string>> watched_;
+};
+
+// Parses with toml++, turning its error into a diagnostic.
+toml::table parse_toml(std::string_view text, Checker& c, const std::string& file_name) {
+    try {
+        return toml::parse(text, std::string_view{file_name});
+    } catch (const toml::parse_error& e) {
+        c.report(e.source().begin, "", escaped(e.description()));  // it may quote a raw newline
+        c.fail();
+    }
+}
+
+void check_name(Checker& c, const toml::value<std::string>& node) {
+    const std::string& name = node.get();
+    const toml::source_position where = start_of(node);
+    if (name.empty()) c.report(where, "name", "must not be empty");
+    else if (name.size() > kMaxNameBytes)
+        c.report(where, "name", fmt::format("is {} characters long; the limit is {}", name.size(), kMaxNameBytes));
+    else if (!std::all_of(name.begin(), name.end(), is_name_char))
+        c.report(where, "name",
+                 fmt::format("\"{}\" is not usable as a folder name: only letters, digits, '-', '_' and '.' are "
+                             "allowed",
+                             printable(name)));
+    else if (name.front() == '.')
+        c.report(where, "name", fmt::format("\"{}\" must not start with '.'", printable(name)));
+}
+
+Vec3 to_vec3(const std::vector<Number>& numbers) {
+    Vec3 v = Vec3::Zero();  // the unused third component of a 2D scenario stays 0
+    for (std::size_t i = 0; i < numbers.size(); ++i) v[static_cast<Eigen::Index>(i)] = numbers[i].value;
+    return v;
+}
+
+Scenario validate(const toml::table& root, Checker& c) {
+    const auto* name = c.string(root, "name", true);
+    const auto* description = c.string(root, "description", false);
+    if (name) check_name(c, *name);
+
+    const toml::table* room = c.table(root, "room");
+    const toml::table* ball = c.table(root, "ball");
+    const toml::table* world = c.table(root, "world");
+    const toml::table* damping = c.table(root, "damping");
+    const toml::table* run = c.table(root, "run");
+
+    // The dimension is room.size's; the other vectors are checked against it
+    // (only against "2 or 3" if room.size is unusable).
+    const auto size = c.vector(room, "room", "size", 0);
+    const int dim = size ? static_cast<int>(size->size()) : 0;
+    const auto radius = c.number(ball, "ball", "radius");
+    const auto position = c.vector(ball, "ball", "position", dim);
+    const auto velocity = c.vector(ball, "ball", "velocity", dim);
+    const auto gravity = c.vector(world, "world", "gravity", dim);
+    const auto alpha = c.number(damping, "damping", "normal");
+    const auto beta = c.number(damping, "damping", "tangential");
+    const auto dt = c.number(run, "run", "dt");
+    const auto duration = c.number(run, "run", "duration");
+    c.report_unknown_keys();
+
+    if (radius) c.expect(radius->value > 0, *radius, fmt::format("must be > 0, got {}", radius->value));
+    const bool radius_ok = radius && radius->value > 0;
+    if (size) {
+        for (std::size_t i = 0; i < size->size(); ++i) {
+            const Number& side = (*size)[i];
+            if (radius_ok)
+                c.expect(side.value > 2 * radius->value, side,
+                         fmt::format("room side {} must be larger than the ball's diameter 2 x radius = {}",
+                                     side.value, 2 * radius->value));
+            else
+                c.expect(side.value > 0, side, fmt::format("room side must be > 0, got {}", side.value));
+        }
+    }
+    if (size && position && radius_ok) {
+        for (std::size_t i = 0; i < position->size(); ++i) {
+            const double side = (*size)[i].value, r = radius->value, p = (*position)[i].value;
+            if (side <= 2 * r) continue;  // already reported: no position fits
+            c.expect(r <= p && p <= side - r, (*position)[i],
+                     fmt::format("ball starts outside the room: centre {} = {} must be within [radius, size - "
+                                 "radius] = [{}, {}]",
+                                 kAxisNames[i], p, r, side - r));
+        }
+    }
+    for (const auto& factor : {alpha, beta}) {
+        if (factor)
+            c.expect(factor->value >= 0 && factor->value <= 1, *factor,
+                     fmt::format("damping factor must be within [0, 1], got {}", factor->value));
+    }
+    if (dt) c.expect(dt->value > 0, *dt, fmt::format("must be > 0, got {}", dt->value));
+    if (duration)
+        c.expect(duration->value > 0, *duration, fmt::format("must be > 0, got {}", duration->value));
+    if (dt && duration && dt->value > 0 && duration->value > 0) {
+        c.expect(dt->value <= duration->value, *dt,
+                 fmt::format("dt {} is larger than duration {}", dt->value, duration->value));
+        const double steps = duration->value / dt->value;
+        c.expect(steps <= kMaxSteps, *dt,
+                 fmt::format("duration / dt = {:.3g} steps exceeds the limit of {:.0e}", steps, kMaxSteps));
+    }
+    if (!c.ok()) c.fail();
+
+    Scenario s;
+    s.name = name->get();
+    if (description) s.description = description->get();
+    s.dim = dim;
+    s.room = to_vec3(*size);
+    s.radius = radius->value;
+    s.position = to_vec3(*position);
+    s.velocity = to_vec3(*velocity);
+    s.gravity = to_vec3(*gravity);
+    s.alpha = alpha->value;
+    s.beta = beta->value;
+    s.dt = dt->value;
+    s.duration = duration->value;
+    return s;
+}
+
+Scenario parse_unguarded(std::string_view text, const std::string& file_name) {
+    Checker c{file_name};
+    if (text.size() > kMaxInputBytes) {
+        c.report({}, "", fmt::format("input is larger than {} bytes; a scenario file is far smaller", kMaxInputBytes));
+        c.fail();
+    }
+    if (auto hazard = find_parser_hazard(text)) {
+        c.report(hazard->where, "", std::move(hazard->reason));
+        c.fail();
+    }
+    if (!std::all_of(text.begin(), text.end(), is_ascii))
+        parse_toml(ascii_stand_in(text), c, file_name);
+    const toml::table root = parse_toml(text, c, file_name);
+    Scenario s = validate(root, c);
+    s.source = file_name;
+    return s;
+}
+
+Scenario load_unguarded(const std::filesystem::path& file) {
+    const std::string name = file.string();
+    const auto fail = [&](const std::string& reason) { throw ScenarioError({{name, 0, 0, "", reason}}); };
+
+    // Only regular files: a FIFO or /dev/zero would block or never end.
+    std::error_code ec;
+    const std::filesystem::file_status status = std::filesystem::status(file, ec);
+    if (status.type() == std::filesystem::file_type::not_found) fail("cannot open: no such file");
+    if (ec) fail(fmt::format("cannot open: {}", ec.message()));
+    if (std::filesystem::is_directory(status)) fail("cannot open: is a directory, not a scenario file");
+    if (!std::filesystem::is_regular_file(status)) fail("cannot open: not a regular file");
+
+    std::ifstream in(file, std::ios::binary);
+    if (!in) fail(fmt::format("cannot open: {}", std::generic_category().message(errno)));
+    // One byte past the limit is enough for parse_unguarded to reject an oversized file.
+    std::string text(kMaxInputBytes + 1, '\0');
+    in.read(text.data(), static_cast<std::streamsize>(text.size()));
+    if (in.bad()) fail("cannot read file");
+    text.resize(static_cast<std::size_t>(in.gcount()));
+    return parse_unguarded(text, name);
+}
+
+// Runs `load` so that callers only ever see ScenarioError, even for bad_alloc.
+template <typename Load>
+Scenario guarded(const std::string& file_name, Load load) {
+    try {
+        return load();
+    } catch (const ScenarioError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw ScenarioError({{file_name, 0, 0, "", fmt::format("cannot load scenario: {}", e.what())}});
+    }
+}
+
+}  // namespace
+
+Scenario parse_scenario(std::string_view toml_text, const std::string& file_name) {
+    return guarded(file_name, [&] { return parse_unguarded(toml_text, file_name); });
+}
+
+Scenario load_scenario(const std::filesystem::path& file) {
+    return guarded(file.string(), [&] { return load_unguarded(file); });
+}
+
+}  // namespace bouncecheck

@@ -1,0 +1,46 @@
+// Loading and validating scenario files (TOML; see scenarios/seed-3d.toml).
+//
+// Every problem of a file is collected and reported at once, each located by
+// file, line, column and dotted key, before anything runs. Nothing but
+// ScenarioError escapes, whatever the input.
+#pragma once
+
+#include "scenarios/scenario.h"
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace bouncecheck {
+
+// One located problem.
+struct Diagnostic {
+    std::string file;          // path as given
+    int line = 0, column = 0;  // 1-based; 0 if unknown
+    std::string key;           // dotted key path, empty for syntax/file errors
+    std::string reason;
+
+    // "FILE:LINE:COLUMN: KEY: REASON", leaving out the parts that are empty or 0.
+    std::string format() const;
+};
+
+// what() is every diagnostic formatted, one per line.
+class ScenarioError : public std::runtime_error {
+public:
+    explicit ScenarioError(std::vector<Diagnostic> d);
+    const std::vector<Diagnostic>& diagnostics() const { return diagnostics_; }
+
+private:
+    std::vector<Diagnostic> diagnostics_;
+};
+
+// Reads and validates a scenario file. Throws ScenarioError.
+Scenario load_scenario(const std::filesystem::path& file);
+
+// Validates scenario text; `file_name` is only used in diagnostics and as
+// Scenario::source. Throws ScenarioError. For tests and fuzzing.
+Scenario parse_scenario(std::string_view toml_text, const std::string& file_name);
+
+}  // namespace bouncecheck

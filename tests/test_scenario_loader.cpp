@@ -1,0 +1,703 @@
+// Scenario loading and validation: the bundled scenarios, one test per
+// validation rule (with its reported location, key and reason), and inputs
+// that must produce ScenarioError and nothing else.
+#include "scenarios/loader.h"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <bit>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace bouncecheck {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kScenarioDir = BOUNCECHECK_SCENARIO_DIR;
+const fs::path kInvalidDir = fs::path(BOUNCECHECK_TEST_DATA) / "invalid";
+
+// A valid 3D scenario; tests edit one line of it. Positions below refer to it:
+// line 5 is `radius = 0.05` (value at column 10), line 6 `position = [...]`
+// (array at column 12, elements at 13, 18, 23).
+constexpr std::string_view kValid = R"(name = "unit"
+[room]
+size = [1.0, 1.0, 1.0]
+[ball]
+radius = 0.05
+position = [0.5, 0.5, 0.5]
+velocity = [0.3, 0.1, 0.2]
+[world]
+gravity = [0.0, 0.0, -9.81]
+[damping]
+normal = 0.8
+tangential = 0.99
+[run]
+dt = 0.03
+duration = 1.0
+)";
+
+constexpr int kAnyColumn = -1;
+
+// `base` with the single occurrence of `from` replaced by `to`.
+std::string with(std::string_view from, std::string_view to, std::string_view base = kValid) {
+    std::string text(base);
+    const std::size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << "not in the base text: " << from;
+    EXPECT_EQ(text.find(from, at + 1), std::string::npos) << "ambiguous edit: " << from;
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+    return text;
+}
+
+// The diagnostics parse_scenario reports for `text`; a test failure if it accepts it.
+std::vector<Diagnostic> errors_of(std::string_view text, const std::string& file = "test.toml") {
+    try {
+        parse_scenario(text, file);
+    } catch (const ScenarioError& e) {
+        return e.diagnostics();
+    }
+    ADD_FAILURE() << "accepted an invalid scenario:\n" << text;
+    return {};
+}
+
+std::vector<Diagnostic> load_errors_of(const fs::path& file) {
+    try {
+        load_scenario(file);
+    } catch (const ScenarioError& e) {
+        return e.diagnostics();
+    }
+    ADD_FAILURE() << "accepted " << file;
+    return {};
+}
+
+std::string dump(const std::vector<Diagnostic>& diagnostics) {
+    std::string out;
+    for (const Diagnostic& d : diagnostics) {
+        out += "\n  ";
+        out += d.format();
+    }
+    return diagnostics.empty() ? " (none)" : out;
+}
+
+// Whether one of `diagnostics` has this key, position and a reason containing `reason_part`.
+::testing::AssertionResult has_error(const std::vector<Diagnostic>& diagnostics, std::string_view key, int line,
+                                     int column, std::string_view reason_part) {
+    for (const Diagnostic& d : diagnostics) {
+        if (d.key == key && d.line == line && (column == kAnyColumn || d.column == column) &&
+            d.reason.find(reason_part) != std::string::npos)
+            return ::testing::AssertionSuccess();
+    }
+    return ::testing::AssertionFailure() << "no diagnostic `" << key << "` at " << line << ":" << column
+                                         << " containing \"" << reason_part << "\"; got:" << dump(diagnostics);
+}
+
+// The only diagnostic of `text`, which must match.
+::testing::AssertionResult single_error(std::string_view text, std::string_view key, int line, int column,
+                                        std::string_view reason_part) {
+    const std::vector<Diagnostic> diagnostics = errors_of(text);
+    if (diagnostics.size() != 1)
+        return ::testing::AssertionFailure() << "expected exactly one diagnostic, got:" << dump(diagnostics);
+    return has_error(diagnostics, key, line, column, reason_part);
+}
+
+std::uint64_t bits(double x) { return std::bit_cast<std::uint64_t>(x); }
+
+// A file under the test's own temporary directory, removed afterwards.
+class ScenarioLoaderFiles : public ::testing::Test {
+protected:
+    void SetUp() override {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        dir_ = fs::temp_directory_path() /
+               (std::string("bouncecheck-loader-") + info->name() + "-" + std::to_string(::getpid()));
+        fs::create_directories(dir_);
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::permissions(file_, fs::perms::owner_all, ec);
+        fs::remove_all(dir_, ec);
+    }
+    const fs::path& write(std::string_view text) {
+        file_ = dir_ / "scenario.toml";
+        std::ofstream(file_, std::ios::binary) << text;
+        return file_;
+    }
+
+    fs::path dir_;
+    fs::path file_;
+};
+
+// --- The bundled scenarios --------------------------------------------------
+
+TEST(ScenarioLoaderSeed, Loads2D) {
+    const fs::path file = kScenarioDir / "seed-2d.toml";
+    const Scenario s = load_scenario(file);
+    EXPECT_EQ(s.name, "seed-2d");
+    EXPECT_EQ(s.description,
+              "The seed document's 2D simulation: a 5 cm ball released at the ceiling of a 1 m x 1 m room, "
+              "moving right at 0.3 m/s, under 0.0981 m/s^2.");
+    EXPECT_EQ(s.source, file);
+    EXPECT_EQ(s.dim, 2);
+    EXPECT_EQ(s.vertical_axis(), 1);
+    EXPECT_EQ(s.room, Vec3(1.0, 1.0, 0.0));
+    EXPECT_EQ(s.radius, 0.05);
+    EXPECT_EQ(s.position, Vec3(0.5, 0.95, 0.0));
+    EXPECT_EQ(s.velocity, Vec3(0.3, 0.0, 0.0));
+    EXPECT_EQ(s.gravity, Vec3(0.0, -0.0981, 0.0));
+    EXPECT_EQ(s.alpha, 0.8);
+    EXPECT_EQ(s.beta, 0.99);
+    EXPECT_EQ(s.dt, 0.03);
+    EXPECT_EQ(s.duration, 50.0);
+}
+
+TEST(ScenarioLoaderSeed, Loads3D) {
+    const fs::path file = kScenarioDir / "seed-3d.toml";
+    const Scenario s = load_scenario(file);
+    EXPECT_EQ(s.name, "seed-3d");
+    EXPECT_EQ(s.description,
+              "The seed document's 3D simulation: a 5 cm ball starting against the back wall (y = 1 - r) of a "
+              "1 m cube, moving at (0.3, 0.1, 0.2) m/s, under 0.0981 m/s^2.");
+    EXPECT_EQ(s.source, file);
+    EXPECT_EQ(s.dim, 3);
+    EXPECT_EQ(s.vertical_axis(), 2);
+    EXPECT_EQ(s.room, Vec3(1.0, 1.0, 1.0));
+    EXPECT_EQ(s.radius, 0.05);
+    EXPECT_EQ(s.position, Vec3(0.5, 0.95, 0.5));
+    EXPECT_EQ(s.velocity, Vec3(0.3, 0.1, 0.2));
+    EXPECT_EQ(s.gravity, Vec3(0.0, 0.0, -0.0981));
+    EXPECT_EQ(s.alpha, 0.8);
+    EXPECT_EQ(s.beta, 0.99);
+    EXPECT_EQ(s.dt, 0.03);
+    EXPECT_EQ(s.duration, 42.0);
+}
+
+// Reproducing the reference bit for bit needs the doubles nearest the literals.
+TEST(ScenarioLoaderSeed, ValuesAreTheNearestDoubles) {
+    const Scenario s = load_scenario(kScenarioDir / "seed-3d.toml");
+    EXPECT_EQ(bits(s.position.y()), bits(0.95));
+    EXPECT_EQ(bits(s.gravity.z()), bits(-0.0981));
+    EXPECT_EQ(bits(s.dt), bits(0.03));
+    EXPECT_EQ(bits(s.beta), bits(0.99));
+}
+
+// --- Valid variations ---------------------------------------------------------
+
+TEST(ScenarioLoaderValid, BaseTextLoads) {
+    const Scenario s = parse_scenario(kValid, "in-memory.toml");
+    EXPECT_EQ(s.name, "unit");
+    EXPECT_EQ(s.description, "");
+    EXPECT_EQ(s.source, fs::path("in-memory.toml"));
+    EXPECT_EQ(s.gravity, Vec3(0.0, 0.0, -9.81));
+}
+
+TEST(ScenarioLoaderValid, IntegerLiteralsAccepted) {
+    std::string text = with("size = [1.0, 1.0, 1.0]", "size = [2, 3, 4]");
+    text = with("normal = 0.8", "normal = 1", text);
+    text = with("tangential = 0.99", "tangential = 0", text);
+    text = with("duration = 1.0", "duration = 10", text);
+    const Scenario s = parse_scenario(text, "ints.toml");
+    EXPECT_EQ(s.room, Vec3(2.0, 3.0, 4.0));
+    EXPECT_EQ(s.alpha, 1.0);
+    EXPECT_EQ(s.beta, 0.0);
+    EXPECT_EQ(s.duration, 10.0);
+}
+
+TEST(ScenarioLoaderValid, BoundaryValuesAccepted) {
+    // Touching walls on every axis, damping at both ends of [0, 1], dt == duration.
+    std::string text = with("position = [0.5, 0.5, 0.5]", "position = [0.05, 0.95, 0.05]");
+    text = with("normal = 0.8", "normal = 0.0", text);
+    text = with("tangential = 0.99", "tangential = 1.0", text);
+    text = with("dt = 0.03", "dt = 1.0", text);
+    const Scenario s = parse_scenario(text, "edges.toml");
+    EXPECT_EQ(s.position, Vec3(0.05, 0.95, 0.05));
+    EXPECT_EQ(s.dt, s.duration);
+}
+
+TEST(ScenarioLoaderValid, DescriptionAndTomlSpellingsAccepted) {
+    // Dotted keys and inline tables are the same document to TOML.
+    std::string text = with("name = \"unit\"\n[room]\nsize = [1.0, 1.0, 1.0]\n",
+                            "name = \"v1.2_test-A\"\ndescription = 'A \"quoted\" description.'\n"
+                            "room.size = [1.0, 1.0, 1.0]\nrun = {dt = 0.03, duration = 1.0}\n");
+    text = with("[run]\ndt = 0.03\nduration = 1.0\n", "", text);
+    const Scenario s = parse_scenario(text, "spellings.toml");
+    EXPECT_EQ(s.name, "v1.2_test-A");
+    EXPECT_EQ(s.description, "A \"quoted\" description.");
+    EXPECT_EQ(s.room, Vec3(1.0, 1.0, 1.0));
+    EXPECT_EQ(s.dt, 0.03);
+}
+
+// --- One test per validation rule ---------------------------------------------
+
+TEST(ScenarioLoaderInvalid, MissingTable) {
+    const std::string text = with("[world]\ngravity = [0.0, 0.0, -9.81]\n", "");
+    EXPECT_TRUE(single_error(text, "world", 1, 1, "missing required table [world]"));
+}
+
+TEST(ScenarioLoaderInvalid, MissingKeyPointsAtItsTable) {
+    EXPECT_TRUE(single_error(with("radius = 0.05\n", ""), "ball.radius", 4, 1, "missing required key"));
+}
+
+TEST(ScenarioLoaderInvalid, MissingName) {
+    EXPECT_TRUE(single_error(with("name = \"unit\"\n", ""), "name", 1, 1, "missing required key"));
+}
+
+TEST(ScenarioLoaderInvalid, UnknownTopLevelKey) {
+    EXPECT_TRUE(single_error(with("name = \"unit\"\n", "name = \"unit\"\ncolour = \"red\"\n"), "colour", 2, 1,
+                             "unknown key"));
+}
+
+TEST(ScenarioLoaderInvalid, UnknownKeyInTable) {
+    EXPECT_TRUE(single_error(with("radius = 0.05\n", "radius = 0.05\nmass = 1.0\n"), "ball.mass", 6, 1,
+                             "unknown key"));
+}
+
+TEST(ScenarioLoaderInvalid, UnknownSubTable) {
+    const std::string text = std::string(kValid) + "[run.spin]\nrate = 1\n";
+    EXPECT_TRUE(single_error(text, "run.spin", 16, 6, "unknown key"));
+}
+
+TEST(ScenarioLoaderInvalid, UnknownKeyIsQuotedAndEscaped) {
+    // The key stays on one line and reads back as TOML.
+    const std::string text = with("name = \"unit\"\n", "name = \"unit\"\n\"odd key\\n\" = 1\n");
+    EXPECT_TRUE(single_error(text, "\"odd key\\u000A\"", 2, 1, "unknown key"));
+}
+
+TEST(ScenarioLoaderInvalid, EnginesTableNotSupportedYet) {
+    const std::string text = std::string(kValid) + "[engines.box2d]\nenabled = true\n";
+    EXPECT_TRUE(single_error(text, "engines", 16, 2, "not supported yet"));
+}
+
+TEST(ScenarioLoaderInvalid, ThresholdsTableNotSupportedYet) {
+    const std::string text = std::string(kValid) + "[thresholds]\nposition = 1e-9\n";
+    EXPECT_TRUE(single_error(text, "thresholds", 16, 2, "not supported yet"));
+}
+
+TEST(ScenarioLoaderInvalid, StringWhereNumberExpected) {
+    EXPECT_TRUE(single_error(with("radius = 0.05", "radius = \"big\""), "ball.radius", 5, 10,
+                             "expected a number, got a string"));
+}
+
+TEST(ScenarioLoaderInvalid, TableWhereArrayExpected) {
+    EXPECT_TRUE(single_error(with("position = [0.5, 0.5, 0.5]", "position = {x = 0.5}"), "ball.position", 6, 12,
+                             "expected an array of numbers, got a table"));
+}
+
+TEST(ScenarioLoaderInvalid, ArrayWhereTableExpected) {
+    EXPECT_TRUE(single_error(with("[ball]", "[[ball]]"), "ball", 4, 1, "expected a table, got an array"));
+    const std::string text = with("name = \"unit\"\n", "name = \"unit\"\nworld = [0.0, 0.0, -9.81]\n",
+                                  with("[world]\ngravity = [0.0, 0.0, -9.81]\n", ""));
+    EXPECT_TRUE(single_error(text, "world", 2, 9, "expected a table, got an array"));
+}
+
+TEST(ScenarioLoaderInvalid, NonNumberArrayElements) {
+    const auto errors = errors_of(with("velocity = [0.3, 0.1, 0.2]", "velocity = [0.3, \"fast\", true]"));
+    EXPECT_EQ(errors.size(), 2u) << dump(errors);
+    EXPECT_TRUE(has_error(errors, "ball.velocity[1]", 7, 18, "expected a number, got a string"));
+    EXPECT_TRUE(has_error(errors, "ball.velocity[2]", 7, 26, "expected a number, got a boolean"));
+    EXPECT_TRUE(single_error(with("size = [1.0, 1.0, 1.0]", "size = [1.0, [1.0], 1.0]"), "room.size[1]", 3, 14,
+                             "got an array"));
+}
+
+TEST(ScenarioLoaderInvalid, NameNotAString) {
+    EXPECT_TRUE(single_error(with("name = \"unit\"", "name = 42"), "name", 1, 8, "expected a string, got an integer"));
+    EXPECT_TRUE(single_error(with("name = \"unit\"", "name = \"unit\"\ndescription = 1"), "description", 2, 15,
+                             "expected a string"));
+}
+
+TEST(ScenarioLoaderInvalid, NameNotUsableAsFolderName) {
+    EXPECT_TRUE(single_error(with("name = \"unit\"", "name = \"\""), "name", 1, 8, "must not be empty"));
+    EXPECT_TRUE(single_error(with("name = \"unit\"", "name = \"a/b\""), "name", 1, 8, "not usable as a folder name"));
+    EXPECT_TRUE(single_error(with("name = \"unit\"", "name = \"two words\""), "name", 1, 8, "only letters"));
+    EXPECT_TRUE(single_error(with("name = \"unit\"", "name = \".hidden\""), "name", 1, 8, "must not start with '.'"));
+    EXPECT_TRUE(single_error(with("name = \"unit\"", "name = \"..\""), "name", 1, 8, "must not start with '.'"));
+    const std::string long_name = "name = \"" + std::string(300, 'a') + "\"";
+    EXPECT_TRUE(single_error(with("name = \"unit\"", long_name), "name", 1, 8, "the limit is 255"));
+}
+
+TEST(ScenarioLoaderInvalid, RoomSizeOfWrongLength) {
+    // With no usable dimension, the other vectors are only held to "2 or 3".
+    EXPECT_TRUE(single_error(with("size = [1.0, 1.0, 1.0]", "size = [1.0, 1.0, 1.0, 1.0]"), "room.size", 3, 8,
+                             "expected an array of 2 or 3 numbers, got 4 elements"));
+    EXPECT_TRUE(single_error(with("size = [1.0, 1.0, 1.0]", "size = []"), "room.size", 3, 8, "got 0 elements"));
+}
+
+TEST(ScenarioLoaderInvalid, VectorLengthMismatchedWithRoom) {
+    EXPECT_TRUE(single_error(with("position = [0.5, 0.5, 0.5]", "position = [0.5, 0.5]"), "ball.position", 6, 12,
+                             "expected 3 numbers to match the dimension of room.size, got 2"));
+    const auto errors = errors_of(with("size = [1.0, 1.0, 1.0]", "size = [1.0, 1.0]"));
+    EXPECT_EQ(errors.size(), 3u) << dump(errors);
+    EXPECT_TRUE(has_error(errors, "ball.position", 6, 12, "expected 2 numbers"));
+    EXPECT_TRUE(has_error(errors, "ball.velocity", 7, 12, "expected 2 numbers"));
+    EXPECT_TRUE(has_error(errors, "world.gravity", 9, 11, "expected 2 numbers"));
+}
+
+TEST(ScenarioLoaderInvalid, NanAndInfRejected) {
+    EXPECT_TRUE(single_error(with("radius = 0.05", "radius = nan"), "ball.radius", 5, 10,
+                             "must be a finite number, got nan"));
+    EXPECT_TRUE(single_error(with("gravity = [0.0, 0.0, -9.81]", "gravity = [0.0, 0.0, -inf]"), "world.gravity[2]", 9,
+                             22, "must be a finite number, got -inf"));
+    EXPECT_TRUE(single_error(with("duration = 1.0", "duration = +inf"), "run.duration", 15, 12, "finite"));
+}
+
+TEST(ScenarioLoaderInvalid, ExtremeMagnitudesRejected) {
+    EXPECT_TRUE(single_error(with("velocity = [0.3, 0.1, 0.2]", "velocity = [1e300, 0.1, 0.2]"), "ball.velocity[0]",
+                             7, 13, "exceeds the limit"));
+    // Beyond 2^53 an integer would not survive the conversion to double.
+    EXPECT_TRUE(single_error(with("duration = 1.0", "duration = 9007199254740993"), "run.duration", 15, 12,
+                             "exceeds the limit"));
+}
+
+TEST(ScenarioLoaderInvalid, RadiusNotPositive) {
+    EXPECT_TRUE(single_error(with("radius = 0.05", "radius = 0.0"), "ball.radius", 5, 10, "must be > 0, got 0"));
+    // A negative radius also makes the position check meaningless; only the radius is reported.
+    EXPECT_TRUE(single_error(with("radius = 0.05", "radius = -0.05"), "ball.radius", 5, 10, "must be > 0"));
+}
+
+TEST(ScenarioLoaderInvalid, RoomSideNotLargerThanDiameter) {
+    // 0.1 == 2 x 0.05 exactly: the ball would touch both walls, which is rejected.
+    EXPECT_TRUE(single_error(with("size = [1.0, 1.0, 1.0]", "size = [1.0, 0.1, 1.0]"), "room.size[1]", 3, 14,
+                             "must be larger than the ball's diameter 2 x radius = 0.1"));
+    EXPECT_TRUE(has_error(errors_of(with("size = [1.0, 1.0, 1.0]", "size = [1.0, 1.0, -2.0]")), "room.size[2]", 3, 19,
+                          "diameter"));
+}
+
+TEST(ScenarioLoaderInvalid, BallStartsOutsideRoom) {
+    EXPECT_TRUE(single_error(with("position = [0.5, 0.5, 0.5]", "position = [0.5, 0.5, 0.96]"), "ball.position[2]", 6,
+                             23, "ball starts outside the room: centre z = 0.96 must be within"));
+    EXPECT_TRUE(single_error(with("position = [0.5, 0.5, 0.5]", "position = [0.04, 0.5, 0.5]"), "ball.position[0]", 6,
+                             13, "[0.05, 0.95]"));
+    EXPECT_TRUE(single_error(with("position = [0.5, 0.5, 0.5]", "position = [0.5, -3, 0.5]"), "ball.position[1]", 6,
+                             18, "centre y = -3"));
+}
+
+TEST(ScenarioLoaderInvalid, DtNotPositive) {
+    EXPECT_TRUE(single_error(with("dt = 0.03", "dt = 0.0"), "run.dt", 14, 6, "must be > 0, got 0"));
+    EXPECT_TRUE(single_error(with("dt = 0.03", "dt = -0.03"), "run.dt", 14, 6, "must be > 0"));
+}
+
+TEST(ScenarioLoaderInvalid, DurationNotPositive) {
+    EXPECT_TRUE(single_error(with("duration = 1.0", "duration = 0"), "run.duration", 15, 12, "must be > 0, got 0"));
+}
+
+TEST(ScenarioLoaderInvalid, DtLargerThanDuration) {
+    EXPECT_TRUE(single_error(with("dt = 0.03", "dt = 2.0"), "run.dt", 14, 6, "dt 2 is larger than duration 1"));
+}
+
+TEST(ScenarioLoaderInvalid, DampingOutsideUnitInterval) {
+    EXPECT_TRUE(single_error(with("normal = 0.8", "normal = -0.1"), "damping.normal", 11, 10,
+                             "must be within [0, 1], got -0.1"));
+    EXPECT_TRUE(single_error(with("tangential = 0.99", "tangential = 1.01"), "damping.tangential", 12, 14,
+                             "must be within [0, 1], got 1.01"));
+}
+
+TEST(ScenarioLoaderInvalid, TooManySteps) {
+    const std::string text = with("dt = 0.03\nduration = 1.0", "dt = 1e-5\nduration = 1e6");
+    EXPECT_TRUE(single_error(text, "run.dt", 14, 6, "duration / dt = 1e+11 steps exceeds the limit"));
+}
+
+TEST(ScenarioLoaderInvalid, SyntaxErrorHasParserLocation) {
+    const auto errors = errors_of(with("radius = 0.05", "radius = = 0.05"));
+    ASSERT_EQ(errors.size(), 1u) << dump(errors);
+    EXPECT_EQ(errors[0].file, "test.toml");
+    EXPECT_EQ(errors[0].line, 5);
+    EXPECT_EQ(errors[0].column, 10);
+    EXPECT_EQ(errors[0].key, "");
+    EXPECT_FALSE(errors[0].reason.empty());
+}
+
+TEST(ScenarioLoaderInvalid, DuplicateKeyIsASyntaxError) {
+    const auto errors = errors_of(with("dt = 0.03", "dt = 0.03\ndt = 0.04"));
+    EXPECT_TRUE(has_error(errors, "", 15, 6, "cannot redefine"));
+}
+
+// --- The example files under tests/data/invalid --------------------------------
+
+TEST(ScenarioLoaderInvalidFiles, SeveralErrorsAllReported) {
+    const fs::path file = kInvalidDir / "several-errors.toml";
+    std::vector<Diagnostic> errors;
+    try {
+        load_scenario(file);
+        ADD_FAILURE() << "accepted " << file;
+    } catch (const ScenarioError& e) {
+        errors = e.diagnostics();
+        // what() lists every diagnostic, one per line, in file order.
+        std::string expected;
+        for (const Diagnostic& d : errors) {
+            if (!expected.empty()) expected += '\n';
+            expected += d.format();
+        }
+        EXPECT_EQ(e.what(), expected);
+    }
+    ASSERT_EQ(errors.size(), 7u) << dump(errors);
+    EXPECT_TRUE(has_error(errors, "name", 2, 8, "not usable as a folder name"));
+    EXPECT_TRUE(has_error(errors, "colour", 3, 1, "unknown key"));
+    EXPECT_TRUE(has_error(errors, "ball.radius", 9, 10, "expected a number, got a string"));
+    EXPECT_TRUE(has_error(errors, "ball.position", 10, 12, "expected 2 numbers"));
+    EXPECT_TRUE(has_error(errors, "damping.tangential", 16, 1, "missing required key"));
+    EXPECT_TRUE(has_error(errors, "damping.normal", 17, 10, "within [0, 1]"));
+    EXPECT_TRUE(has_error(errors, "run.duration", 21, 12, "must be > 0"));
+    for (const Diagnostic& d : errors) EXPECT_EQ(d.file, file.string());
+    EXPECT_TRUE(std::is_sorted(errors.begin(), errors.end(),
+                               [](const Diagnostic& a, const Diagnostic& b) { return a.line < b.line; }));
+}
+
+TEST(ScenarioLoaderInvalidFiles, SyntaxError) {
+    const fs::path file = kInvalidDir / "syntax-error.toml";
+    const auto errors = load_errors_of(file);
+    ASSERT_EQ(errors.size(), 1u) << dump(errors);
+    // The unclosed array on line 4 is noticed where the next table starts.
+    EXPECT_TRUE(has_error(errors, "", 6, 1, "array"));
+    EXPECT_EQ(errors[0].format().rfind(file.string() + ":6:1: ", 0), 0u) << errors[0].format();
+}
+
+TEST(ScenarioLoaderInvalidFiles, OutsideRoom2D) {
+    const auto errors = load_errors_of(kInvalidDir / "outside-room.toml");
+    ASSERT_EQ(errors.size(), 1u) << dump(errors);
+    EXPECT_TRUE(has_error(errors, "ball.position[1]", 9, 18, "centre y = 0.97 must be within [radius, size - radius]"));
+}
+
+TEST(ScenarioLoaderInvalidFiles, ReservedTables) {
+    const auto errors = load_errors_of(kInvalidDir / "reserved-tables.toml");
+    ASSERT_EQ(errors.size(), 2u) << dump(errors);
+    EXPECT_TRUE(has_error(errors, "engines", 23, 2, "not supported yet"));
+    EXPECT_TRUE(has_error(errors, "thresholds", 26, 2, "not supported yet"));
+}
+
+TEST(ScenarioLoaderInvalidFiles, NonFinite) {
+    const auto errors = load_errors_of(kInvalidDir / "non-finite.toml");
+    ASSERT_EQ(errors.size(), 4u) << dump(errors);
+    EXPECT_TRUE(has_error(errors, "room.size[0]", 5, 9, "got inf"));
+    EXPECT_TRUE(has_error(errors, "ball.velocity[0]", 10, 13, "got nan"));
+    EXPECT_TRUE(has_error(errors, "world.gravity[1]", 13, 17, "got -inf"));
+    EXPECT_TRUE(has_error(errors, "run.duration", 21, 12, "got inf"));
+}
+
+TEST(ScenarioLoaderInvalidFiles, MismatchedDimensions) {
+    const auto errors = load_errors_of(kInvalidDir / "mismatched-dimensions.toml");
+    ASSERT_EQ(errors.size(), 2u) << dump(errors);
+    EXPECT_TRUE(has_error(errors, "ball.position", 9, 12, "expected 2 numbers"));
+    EXPECT_TRUE(has_error(errors, "ball.velocity", 10, 12, "got 1"));
+}
+
+TEST(ScenarioLoaderInvalidFiles, MissingTables) {
+    const auto errors = load_errors_of(kInvalidDir / "missing-tables.toml");
+    ASSERT_EQ(errors.size(), 5u) << dump(errors);
+    for (const char* table : {"room", "ball", "world", "damping", "run"})
+        EXPECT_TRUE(has_error(errors, table, 1, 1, "missing required table"));
+}
+
+// Every example file is rejected with located diagnostics naming the file.
+TEST(ScenarioLoaderInvalidFiles, EveryExampleIsRejected) {
+    int files = 0;
+    for (const fs::directory_entry& entry : fs::directory_iterator(kInvalidDir)) {
+        SCOPED_TRACE(entry.path().string());
+        const auto errors = load_errors_of(entry.path());
+        EXPECT_FALSE(errors.empty());
+        for (const Diagnostic& d : errors) {
+            EXPECT_EQ(d.file, entry.path().string());
+            EXPECT_GE(d.line, 1);
+            EXPECT_GE(d.column, 1);
+            EXPECT_FALSE(d.reason.empty());
+        }
+        ++files;
+    }
+    EXPECT_GE(files, 9);
+}
+
+// --- Files ----------------------------------------------------------------------
+
+TEST_F(ScenarioLoaderFiles, LoadsAFileAndRecordsItsPath) {
+    const fs::path& file = write(kValid);
+    EXPECT_EQ(load_scenario(file).source, file);
+}
+
+TEST_F(ScenarioLoaderFiles, MissingFile) {
+    const fs::path file = dir_ / "no-such-scenario.toml";
+    const auto errors = load_errors_of(file);
+    ASSERT_EQ(errors.size(), 1u) << dump(errors);
+    EXPECT_EQ(errors[0].file, file.string());
+    EXPECT_EQ(errors[0].line, 0);
+    EXPECT_EQ(errors[0].key, "");
+    EXPECT_EQ(errors[0].format(), file.string() + ": cannot open: no such file");
+}
+
+TEST_F(ScenarioLoaderFiles, DirectoryInsteadOfFile) {
+    const auto errors = load_errors_of(dir_);
+    ASSERT_EQ(errors.size(), 1u) << dump(errors);
+    EXPECT_NE(errors[0].reason.find("is a directory"), std::string::npos) << errors[0].reason;
+}
+
+TEST_F(ScenarioLoaderFiles, NotARegularFile) {
+    // A device or FIFO could block or never end: refused before reading.
+    if (!fs::exists("/dev/zero")) GTEST_SKIP() << "no /dev/zero";
+    const auto errors = load_errors_of("/dev/zero");
+    ASSERT_EQ(errors.size(), 1u) << dump(errors);
+    EXPECT_NE(errors[0].reason.find("not a regular file"), std::string::npos) << errors[0].reason;
+}
+
+TEST_F(ScenarioLoaderFiles, UnreadableFile) {
+    const fs::path& file = write(kValid);
+    fs::permissions(file, fs::perms::none);
+    if (std::ifstream(file).is_open()) GTEST_SKIP() << "permissions are not enforced for this user (root?)";
+    const auto errors = load_errors_of(file);
+    ASSERT_EQ(errors.size(), 1u) << dump(errors);
+    EXPECT_NE(errors[0].reason.find("cannot open"), std::string::npos) << errors[0].reason;
+}
+
+TEST_F(ScenarioLoaderFiles, OversizedFile) {
+    const fs::path& file = write(std::string(kValid) + "#" + std::string(2 << 20, 'x') + "\n");
+    const auto errors = load_errors_of(file);
+    ASSERT_EQ(errors.size(), 1u) << dump(errors);
+    EXPECT_NE(errors[0].reason.find("larger than"), std::string::npos) << errors[0].reason;
+}
+
+// --- Hostile input: only ScenarioError, never a crash or a hang ---------------------
+
+TEST(ScenarioLoaderRobustness, EmptyInput) {
+    const auto errors = errors_of("");
+    ASSERT_EQ(errors.size(), 6u) << dump(errors);
+    EXPECT_TRUE(has_error(errors, "name", 1, 1, "missing required key"));
+    EXPECT_TRUE(has_error(errors, "run", 1, 1, "missing required table"));
+}
+
+TEST(ScenarioLoaderRobustness, BinaryGarbage) {
+    using namespace std::string_literals;
+    const std::vector<std::string> garbage = {
+        "\x00"s,
+        "\xff\xfe\x00\x00"s,
+        "\xef\xbb\xbf"s,  // a byte order mark and nothing else
+        "\x7f\x45\x4c\x46\x02\x01\x01\x00\x00\x00\x00\x00\x00\x00\x00\x00\x03\x00\x3e\x00"s,  // an ELF header
+        "name = \"a\x00b\"\n"s,
+        "\xc3\x28 = 1\n[\xed\xa0\x80]\n"s,  // invalid UTF-8, an encoded surrogate
+        "[[[[\n]]]]\n\"\"\"\n'''\n\\u0000\n"s,
+        std::string(kValid).replace(20, 1, "\x00"s),
+    };
+    for (const std::string& bytes : garbage) {
+        SCOPED_TRACE(::testing::PrintToString(bytes));
+        EXPECT_THROW(parse_scenario(bytes, "garbage.toml"), ScenarioError);
+    }
+}
+
+TEST(ScenarioLoaderRobustness, RandomBytesAndMutations) {
+    // Deterministic fuzzing: random buffers, and the valid text with bytes
+    // overwritten. Each input either loads or throws ScenarioError.
+    std::mt19937 rng(20240611);
+    std::uniform_int_distribution<int> byte(0, 255);
+    const std::string alphabet = "[]{}=.,\"'#\n 0123456789einfa-+_xyz\\";
+    std::uniform_int_distribution<std::size_t> pick(0, alphabet.size() - 1);
+    for (int round = 0; round < 600; ++round) {
+        std::string input;
+        if (round % 2 == 0) {
+            input.resize(static_cast<std::size_t>(byte(rng)));
+            for (char& c : input) c = static_cast<char>(round % 4 == 0 ? byte(rng) : alphabet[pick(rng)]);
+        } else {
+            input = kValid;
+            std::uniform_int_distribution<std::size_t> where(0, input.size() - 1);
+            for (int edits = 1 + round % 3; edits > 0; --edits) input[where(rng)] = alphabet[pick(rng)];
+        }
+        SCOPED_TRACE(::testing::PrintToString(input));
+        try {
+            parse_scenario(input, "fuzz.toml");
+        } catch (const ScenarioError& e) {
+            EXPECT_FALSE(e.diagnostics().empty());
+            for (const Diagnostic& d : e.diagnostics()) EXPECT_EQ(d.format().find('\n'), std::string::npos);
+        }
+    }
+}
+
+TEST(ScenarioLoaderRobustness, DeeplyNestedTables) {
+    // toml++ would overflow the stack on these; the loader refuses them first.
+    std::string header = "[a";
+    for (int i = 0; i < 100000; ++i) header += ".a";
+    header += "]\n";
+    EXPECT_TRUE(single_error(header, "", 1, 2003, "refusing keys nested this deeply"));
+    std::string dotted = "a";
+    for (int i = 0; i < 100000; ++i) dotted += ".a";
+    EXPECT_TRUE(single_error(dotted + " = 1\n", "", 1, 2002, "nested"));
+    // Nested arrays and inline tables are bounded by the parser itself.
+    EXPECT_THROW(parse_scenario("x = " + std::string(5000, '[') + std::string(5000, ']'), "deep.toml"),
+                 ScenarioError);
+    EXPECT_THROW(parse_scenario("x = " + std::string(5000, '{') , "deep.toml"), ScenarioError);
+}
+
+TEST(ScenarioLoaderRobustness, DotsInStringsAndCommentsAreNotNesting) {
+    const std::string dots(5000, '.');
+    std::string text = with("name = \"unit\"\n", "name = \"unit\"\ndescription = \"\"\"\"" + dots + "\\\"\"\"\"\" # " +
+                                                     dots + "\n");
+    text = with("[room]\n", "[room] # " + dots + "\n", text);
+    EXPECT_EQ(parse_scenario(text, "dots.toml").description, "\"" + dots + "\"\"");
+    text = with("name = \"unit\"\n", "name = \"unit\"\ndescription = '''" + dots + "'''\n");
+    EXPECT_EQ(parse_scenario(text, "dots.toml").description, dots);
+}
+
+TEST(ScenarioLoaderRobustness, NonAsciiOnlyInStringsAndComments) {
+    const std::string text = with("name = \"unit\"\n", "name = \"unit\" # café\ndescription = \"Über café, 1 m³\"\n");
+    EXPECT_EQ(parse_scenario(text, "unicode.toml").description, "Über café, 1 m³");
+    // TOML allows none elsewhere, and toml++ 3.3 has undefined behaviour on some.
+    EXPECT_TRUE(single_error(with("radius = 0.05", "radius = 0.05§"), "", 5, 14,
+                             "non-ASCII character outside a string or comment"));
+    // A quote inside a bare value is no string to toml++: found by parsing an ASCII stand-in first.
+    EXPECT_TRUE(single_error(with("radius = 0.05", "radius = 0\"§\""), "", 5, kAnyColumn, "parsing"));
+    // Valid TOML that toml++ 3.3 cannot parse safely (marzer/tomlplusplus#190): refused with a reason.
+    EXPECT_TRUE(single_error(with("name = \"unit\"\n", "name = \"unit\"\ndescription = \"\"\"a \\\n  § b\"\"\"\n"), "",
+                             3, 3, "after a backslash in a multi-line string"));
+}
+
+TEST(ScenarioLoaderRobustness, Utf8) {
+    EXPECT_EQ(parse_scenario("\xEF\xBB\xBF" + std::string(kValid), "bom.toml").name, "unit");  // byte order mark
+    EXPECT_TRUE(single_error(with("name = \"unit\"", "name = \"un\xFF\""), "", 1, 11, "invalid UTF-8"));
+    // An encoded surrogate, an overlong '/', a truncated sequence.
+    for (const char* bad : {"\xED\xA0\x80", "\xC0\xAF", "\xE2\x82"}) {
+        EXPECT_TRUE(single_error(with("name = \"unit\"", std::string("name = \"") + bad + "\""), "", 1, 9,
+                                 "invalid UTF-8"));
+    }
+}
+
+TEST(ScenarioLoaderRobustness, EveryDiagnosticIsOneLine) {
+    // toml++ quotes the raw input in some messages, here a newline.
+    const auto errors = errors_of(with("radius = 0.05", "radius = -in"));
+    ASSERT_EQ(errors.size(), 1u) << dump(errors);
+    EXPECT_NE(errors[0].reason.find("\\u000A"), std::string::npos) << errors[0].reason;
+    EXPECT_EQ(errors[0].format().find('\n'), std::string::npos) << errors[0].format();
+}
+
+TEST(ScenarioLoaderRobustness, HugeNumbers) {
+    // Out of the range of double or int64: toml++ reports them as syntax errors.
+    EXPECT_TRUE(single_error(with("radius = 0.05", "radius = 1e400"), "", 5, kAnyColumn, "1e400"));
+    EXPECT_TRUE(single_error(with("radius = 0.05", "radius = 99999999999999999999"), "", 5, kAnyColumn, "64 bits"));
+    EXPECT_TRUE(single_error(with("dt = 0.03", "dt = 5e-324"), "run.dt", 14, 6, "steps exceeds the limit"));
+}
+
+TEST(ScenarioLoaderRobustness, OversizedText) {
+    const auto errors = errors_of(std::string(kValid) + std::string(2 << 20, ' '));
+    ASSERT_EQ(errors.size(), 1u) << dump(errors);
+    EXPECT_EQ(errors[0].line, 0);
+    EXPECT_NE(errors[0].reason.find("larger than"), std::string::npos) << errors[0].reason;
+}
+
+// --- Formatting ---------------------------------------------------------------------
+
+TEST(ScenarioLoaderDiagnostic, FormatOmitsMissingParts) {
+    EXPECT_EQ((Diagnostic{"f.toml", 3, 7, "ball.radius", "must be > 0"}.format()),
+              "f.toml:3:7: ball.radius: must be > 0");
+    EXPECT_EQ((Diagnostic{"f.toml", 3, 7, "", "syntax"}.format()), "f.toml:3:7: syntax");
+    EXPECT_EQ((Diagnostic{"f.toml", 3, 0, "k", "r"}.format()), "f.toml:3: k: r");
+    EXPECT_EQ((Diagnostic{"f.toml", 0, 0, "", "cannot open"}.format()), "f.toml: cannot open");
+    EXPECT_EQ((Diagnostic{"", 3, 7, "k", "r"}.format()), "3:7: k: r");
+    EXPECT_EQ((Diagnostic{"", 0, 0, "", "r"}.format()), "r");
+}
+
+TEST(ScenarioLoaderDiagnostic, ErrorListsAllDiagnostics) {
+    const ScenarioError error({{"a.toml", 1, 2, "x", "first"}, {"a.toml", 3, 4, "y", "second"}});
+    EXPECT_STREQ(error.what(), "a.toml:1:2: x: first\na.toml:3:4: y: second");
+    EXPECT_EQ(error.diagnostics().size(), 2u);
+}
+
+}  // namespace
+}  // namespace bouncecheck
