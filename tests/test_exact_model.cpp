@@ -1,0 +1,457 @@
+#include "reference/exact_model.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+namespace bouncecheck {
+namespace {
+
+Scenario make_scenario(int dim, Vec3 room, double radius, Vec3 position, Vec3 velocity, Vec3 gravity, double alpha,
+                       double beta, double duration, double dt = 0.03) {
+    Scenario s;
+    s.name = "test";
+    s.dim = dim;
+    s.room = room;
+    s.radius = radius;
+    s.position = position;
+    s.velocity = velocity;
+    s.gravity = gravity;
+    s.alpha = alpha;
+    s.beta = beta;
+    s.dt = dt;
+    s.duration = duration;
+    return s;
+}
+
+Scenario seed_3d() { return Scenario{}; }  // the Scenario defaults are seed-3d
+
+Scenario seed_2d() {
+    return make_scenario(2, {1, 1, 0}, 0.05, {0.5, 0.95, 0}, {0.3, 0, 0}, {0, -0.0981, 0}, 0.8, 0.99, 50);
+}
+
+// A ball dropped from rest, centre `drop` above its resting height.
+Scenario drop(double drop_height, double g, double alpha, double beta = 0.99, Vec3 velocity = Vec3::Zero()) {
+    return make_scenario(3, {1, 1, 1}, 0.05, {0.5, 0.5, 0.05 + drop_height}, velocity, {0, 0, -g}, alpha, beta, 20);
+}
+
+double energy(const Scenario& s, const State& st) { return 0.5 * st.v.squaredNorm() - s.gravity.dot(st.p); }
+
+void expect_inside(const Scenario& s, const State& st) {
+    for (int i = 0; i < s.dim; ++i) {
+        ASSERT_GE(st.p[i], s.radius) << "axis " << i << " t " << st.t;
+        ASSERT_LE(st.p[i], s.room[i] - s.radius) << "axis " << i << " t " << st.t;
+    }
+}
+
+TEST(ExactModelDrop, HitsFloorAtFreeFallTime) {
+    for (const double h : {0.45, 0.9, 1e-3}) {
+        const double g = 9.81;
+        const ExactModel model(drop(h, g, 0.8));
+        ASSERT_FALSE(model.contacts().empty());
+        const Contact& c = model.contacts().front();
+        EXPECT_EQ(c.axis, 2);
+        EXPECT_EQ(c.side, -1);
+        EXPECT_NEAR(c.t, std::sqrt(2 * h / g), 1e-12 * std::sqrt(2 * h / g));
+        EXPECT_EQ(c.p[2], 0.05);
+    }
+}
+
+TEST(ExactModelDrop, ApexHeightsScaleByAlphaSquared) {
+    // beta = 1 and gravity only along z: side-wall contacts leave v_z alone, and
+    // the fast sideways motion keeps the tail from being summed for many hops.
+    const double alpha = 0.8;
+    const Scenario s = make_scenario(2, {1, 1, 0}, 0.05, {0.5, 0.95, 0}, {3, 0, 0}, {0, -9.81, 0}, alpha, 1.0, 20);
+    const ExactModel model(s);
+    const auto& apexes = model.apexes();
+    ASSERT_GE(apexes.size(), 6u);
+    EXPECT_EQ(apexes.front().t, 0.0);  // at rest vertically in flight at the start
+    EXPECT_EQ(apexes.front().height, 0.95);
+    for (std::size_t k = 1; k < apexes.size(); ++k) {
+        const double ratio = (apexes[k].height - s.radius) / (apexes[k - 1].height - s.radius);
+        EXPECT_NEAR(ratio, alpha * alpha, 1e-9) << "apex " << k;
+        EXPECT_GT(apexes[k].t, apexes[k - 1].t);
+    }
+}
+
+TEST(ExactModelZeno, DropRestTimeMatchesClosedForm) {
+    for (const double alpha : {0.1, 0.5, 0.8, 0.95}) {
+        const double g = 9.81;
+        const ExactModel model(drop(0.45, g, alpha));
+        const double t0 = std::sqrt(2 * 0.45 / g);
+        const double v0 = g * t0;
+        ASSERT_TRUE(model.rest_time());
+        EXPECT_NEAR(*model.rest_time(), t0 + 2 * alpha * v0 / (g * (1 - alpha)), 1e-9 * *model.rest_time());
+        EXPECT_EQ(model.summed_tail_contacts(), -1);
+        EXPECT_EQ(model.contacts().size(), 1u);  // the tail after the first impact is summed
+    }
+}
+
+TEST(ExactModelZeno, RestsOnFloorAfterAccumulation) {
+    const Scenario s = drop(0.45, 9.81, 0.8);
+    const ExactModel model(s);
+    ASSERT_TRUE(model.rest_time());
+    for (const double t : {*model.rest_time(), *model.rest_time() + 1e-9, s.duration}) {
+        const State st = model.state_at(t);
+        EXPECT_EQ(st.p[2], s.radius);
+        EXPECT_EQ(st.v, Vec3::Zero());
+        EXPECT_EQ(st.p[0], 0.5);
+        EXPECT_EQ(st.p[1], 0.5);
+    }
+}
+
+TEST(ExactModelZeno, TailStateFollowsTheHopSequence) {
+    // The summed tail is evaluated in closed form: compare it with the hops
+    // computed one by one.
+    const double g = 9.81, alpha = 0.7, beta = 0.9;
+    const Scenario s = drop(0.45, g, alpha, beta, {0.01, 0, 0});
+    const ExactModel model(s);
+    ASSERT_EQ(model.summed_tail_contacts(), -1);
+    const Contact& first = model.contacts().front();
+    double t = first.t, u = first.v_after[2], x = first.p[0], vx = first.v_after[0];
+    for (int k = 0; k < 30; ++k) {
+        const double hop = 2 * u / g;
+        for (const double f : {0.25, 0.5, 0.9}) {
+            const State st = model.state_at(t + f * hop);
+            const double tol = 1e-12 * std::max(1.0, 1 / (u * u));
+            EXPECT_NEAR(st.p[2], s.radius + u * f * hop - 0.5 * g * f * hop * f * hop, 1e-12) << k;
+            EXPECT_NEAR(st.v[2], u - g * f * hop, 1e-12 * (1 + g * hop)) << k;
+            EXPECT_NEAR(st.p[0], x + vx * f * hop, 1e-12) << k;
+            EXPECT_NEAR(st.v[0], vx, tol * std::abs(vx)) << k;
+        }
+        t += hop;
+        x += vx * hop;
+        u *= alpha;
+        vx *= beta;
+    }
+}
+
+TEST(ExactModelZeno, TangentialTravelMatchesClosedForm) {
+    const double g = 9.81, alpha = 0.8, beta = 0.99;
+    const Vec3 v{0.1, -0.05, 0};
+    const Scenario s = make_scenario(3, {10, 10, 1}, 0.05, {5, 5, 0.5}, v, {0, 0, -g}, alpha, beta, 20);
+    const ExactModel model(s);
+    ASSERT_EQ(model.contacts().size(), 1u);
+    const Contact& c = model.contacts().front();
+    const double u = c.v_after[2];
+    const double tail_time = (2 * u / g) / (1 - alpha * beta);
+    const State rest = model.state_at(*model.rest_time() + 1);
+    for (int i = 0; i < 2; ++i) EXPECT_NEAR(rest.p[i], c.p[i] + c.v_after[i] * tail_time, 1e-12);
+    EXPECT_EQ(rest.v, Vec3::Zero());  // beta < 1: infinitely many contacts stop the sliding
+    EXPECT_EQ(rest.p[2], s.radius);
+}
+
+TEST(ExactModelZeno, BetaOneSlidesAfterRestAndBouncesOffSideWalls) {
+    const double g = 9.81, alpha = 0.8;
+    const Scenario s = make_scenario(3, {1, 1, 1}, 0.05, {0.5, 0.5, 0.5}, {0.05, 0, 0}, {0, 0, -g}, alpha, 1.0, 60);
+    const ExactModel model(s);
+    ASSERT_TRUE(model.rest_time());
+    const Contact& last_floor = model.contacts().front();
+    ASSERT_EQ(last_floor.axis, 2);
+    const State rest = model.state_at(*model.rest_time());
+    EXPECT_EQ(rest.v[0], last_floor.v_after[0]);  // beta = 1: the tail keeps the sliding speed
+    EXPECT_EQ(rest.v[2], 0.0);
+    // Sliding on the floor, it reaches the side wall with the floor axis locked.
+    ASSERT_GE(model.contacts().size(), 2u);
+    const Contact& side = model.contacts()[1];
+    EXPECT_GT(side.t, *model.rest_time());
+    EXPECT_EQ(side.axis, 0);
+    EXPECT_EQ(side.side, +1);
+    EXPECT_EQ(side.p[2], s.radius);
+    EXPECT_EQ(side.v_after[2], 0.0);
+    EXPECT_DOUBLE_EQ(side.v_after[0], -alpha * side.v_before[0]);
+}
+
+TEST(ExactModelZeno, SeedRestTimeMatchesLastResolvedBounce) {
+    for (const Scenario& s : {seed_3d(), seed_2d()}) {
+        const ExactModel model(s);
+        ASSERT_TRUE(model.rest_time());
+        const Contact& c = model.contacts().back();
+        const int z = s.vertical_axis();
+        ASSERT_EQ(c.axis, z);
+        const double g = -s.gravity[z];
+        EXPECT_NEAR(*model.rest_time(), c.t + 2 * c.v_after[z] / (g * (1 - s.alpha)), 1e-12 * *model.rest_time());
+        EXPECT_EQ(model.state_at(s.duration).v, Vec3::Zero());
+    }
+}
+
+TEST(ExactModelSeed, Seed3dBouncesOffBackWallAtStart) {
+    const ExactModel model(seed_3d());
+    ASSERT_FALSE(model.contacts().empty());
+    const Contact& c = model.contacts().front();
+    EXPECT_EQ(c.t, 0.0);
+    EXPECT_EQ(c.axis, 1);
+    EXPECT_EQ(c.side, +1);
+    EXPECT_DOUBLE_EQ(c.v_after[0], 0.3 * 0.99);
+    EXPECT_DOUBLE_EQ(c.v_after[1], -0.08);
+    EXPECT_DOUBLE_EQ(c.v_after[2], 0.2 * 0.99);
+    // The state at t = 0 is the one after the contact.
+    EXPECT_EQ(model.state_at(0).v, c.v_after);
+    EXPECT_GT(model.contacts()[1].t, 0.0);  // and it is not re-detected
+}
+
+TEST(ExactModelCorner, EqualTimesApplyBothWalls) {
+    const double alpha = 0.8, beta = 0.9;
+    const Scenario s = make_scenario(2, {1, 1, 0}, 0.05, {0.5, 0.5, 0}, {1, 1, 0}, Vec3::Zero(), alpha, beta, 1);
+    const ExactModel model(s);
+    ASSERT_EQ(model.contacts().size(), 2u);
+    const Contact &a = model.contacts()[0], &b = model.contacts()[1];
+    EXPECT_EQ(a.t, b.t);
+    EXPECT_EQ(a.axis, 0);
+    EXPECT_EQ(b.axis, 1);
+    EXPECT_EQ(a.side, +1);
+    EXPECT_EQ(b.side, +1);
+    EXPECT_EQ(b.v_before, a.v_after);  // applied one after the other, in axis order
+    EXPECT_DOUBLE_EQ(b.v_after[0], -alpha * beta);
+    EXPECT_DOUBLE_EQ(b.v_after[1], -alpha * beta);
+    EXPECT_EQ(b.p, Vec3(0.95, 0.95, 0));
+}
+
+TEST(ExactModelCorner, GravityShotIntoFloorEdgeAppliesBothWalls) {
+    // Reaches x = size - r exactly when it reaches the floor, with the times
+    // computed by different root formulas (linear vs quadratic).
+    const double g = 1, alpha = 0.8, beta = 0.9;
+    const double fall = std::sqrt(2 * 0.45 / g);
+    const Scenario s =
+        make_scenario(2, {1, 1, 0}, 0.05, {0.5, 0.5, 0}, {0.45 / fall, 0, 0}, {0, -g, 0}, alpha, beta, 0.5 * fall + fall);
+    const ExactModel model(s);
+    ASSERT_GE(model.contacts().size(), 2u);
+    const Contact &a = model.contacts()[0], &b = model.contacts()[1];
+    EXPECT_EQ(a.t, b.t);
+    EXPECT_EQ(a.axis, 0);
+    EXPECT_EQ(a.side, +1);
+    EXPECT_EQ(b.axis, 1);
+    EXPECT_EQ(b.side, -1);
+    EXPECT_NEAR(b.v_after[0], -alpha * beta * 0.45 / fall, 1e-12);
+    EXPECT_NEAR(b.v_after[1], alpha * beta * g * fall, 1e-12);
+}
+
+TEST(ExactModelCorner, ThreeWallsAtOnce) {
+    const Scenario s = make_scenario(3, {1, 1, 1}, 0.05, {0.5, 0.5, 0.5}, {-1, 1, -1}, Vec3::Zero(), 0.8, 0.9, 1);
+    const ExactModel model(s);
+    ASSERT_EQ(model.contacts().size(), 3u);
+    for (const Contact& c : model.contacts()) EXPECT_EQ(c.t, model.contacts().front().t);
+    EXPECT_DOUBLE_EQ(model.contacts().back().v_after[0], 0.8 * 0.81);
+    EXPECT_DOUBLE_EQ(model.contacts().back().v_after[1], -0.8 * 0.81);
+    EXPECT_DOUBLE_EQ(model.contacts().back().v_after[2], 0.8 * 0.81);
+}
+
+TEST(ExactModelBounds, StaysInsideRoomAtRandomTimes) {
+    std::mt19937_64 rng(12345);
+    const Scenario random_scenario = make_scenario(3, {0.7, 1.3, 0.4}, 0.03, {0.2, 0.9, 0.3}, {2.1, -1.7, 0.9},
+                                                   {0.4, -0.3, -9.81}, 0.9, 0.95, 30);
+    for (const Scenario& s : {seed_3d(), seed_2d(), random_scenario}) {
+        const ExactModel model(s);
+        std::uniform_real_distribution<double> time(0, s.duration);
+        for (int n = 0; n < 100'000; ++n) expect_inside(s, model.state_at(time(rng)));
+        for (const Contact& c : model.contacts()) expect_inside(s, model.state_at(c.t));
+    }
+}
+
+TEST(ExactModelBounds, PositionIsContinuousThroughContacts) {
+    const Scenario s = seed_3d();
+    const ExactModel model(s);
+    for (const Contact& c : model.contacts()) {
+        const State before = model.state_at(c.t - 1e-9);
+        if (c.t > 0) {
+            EXPECT_LT((before.p - c.p).norm(), 1e-9);
+        }
+        const State at = model.state_at(c.t);
+        EXPECT_EQ(at.p, c.p);
+        EXPECT_EQ(at.p[c.axis], c.side < 0 ? s.radius : s.room[c.axis] - s.radius);
+    }
+}
+
+TEST(ExactModelEnergy, ConstantBetweenContactsNonIncreasingAcross) {
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> unit(0, 1);
+    std::vector<Scenario> scenarios{seed_3d(), seed_2d()};
+    for (int n = 0; n < 20; ++n) {
+        const int dim = n % 2 ? 2 : 3;
+        Vec3 room(0.5 + unit(rng), 0.5 + unit(rng), dim == 3 ? 0.5 + unit(rng) : 0.0);
+        Vec3 p = Vec3::Zero(), v = Vec3::Zero(), g = Vec3::Zero();
+        for (int i = 0; i < dim; ++i) {
+            p[i] = 0.1 + unit(rng) * (room[i] - 0.2);
+            v[i] = 2 * unit(rng) - 1;
+            g[i] = n % 3 ? 0.0 : 2 * unit(rng) - 1;  // some with tangential gravity
+        }
+        g[dim - 1] = -1 - 9 * unit(rng);
+        scenarios.push_back(make_scenario(dim, room, 0.05, p, v, g, unit(rng), unit(rng), 20));
+    }
+    for (const Scenario& s : scenarios) {
+        const ExactModel model(s);
+        const auto& contacts = model.contacts();
+        for (const Contact& c : contacts)
+            EXPECT_LE(c.v_after.squaredNorm(), c.v_before.squaredNorm() * (1 + 1e-15));
+        // Between two resolved contacts: constant.
+        for (std::size_t k = 0; k + 1 < contacts.size(); ++k) {
+            const double t0 = contacts[k].t, t1 = contacts[k + 1].t;
+            if (t1 == t0) continue;
+            const double e0 = energy(s, model.state_at(t0));
+            for (const double f : {0.1, 0.5, 0.99})
+                EXPECT_NEAR(energy(s, model.state_at(t0 + f * (t1 - t0))), e0, 1e-12 * (1 + std::abs(e0)));
+        }
+        // Over the whole run (Zeno tail and locks included): non-increasing.
+        double previous = energy(s, model.state_at(0));
+        for (double t = 0; t <= s.duration; t += 1e-3) {
+            const double e = energy(s, model.state_at(t));
+            EXPECT_LE(e, previous + 1e-12 * (1 + std::abs(previous))) << s.dim << " t " << t;
+            previous = e;
+        }
+    }
+}
+
+TEST(ExactModelElastic, ZeroGravityConservesSpeedOverManyContacts) {
+    const Vec3 v{0.7, -1.3, 0.9};
+    const Scenario s = make_scenario(3, {1, 1, 1}, 0.05, {0.3, 0.6, 0.2}, v, Vec3::Zero(), 1, 1, 3500);
+    const ExactModel model(s);
+    ASSERT_GE(model.contacts().size(), 10'000u);
+    EXPECT_FALSE(model.event_cap_hit());
+    for (const Contact& c : model.contacts()) {
+        ASSERT_NEAR(c.v_after.norm(), v.norm(), 1e-12 * v.norm());
+        ASSERT_EQ(c.v_after.cwiseAbs(), v.cwiseAbs());
+    }
+    const State end = model.state_at(s.duration);
+    EXPECT_NEAR(end.v.norm(), v.norm(), 1e-12);
+    expect_inside(s, end);
+    EXPECT_FALSE(model.rest_time());
+}
+
+TEST(ExactModelAlphaZero, RestsAtFirstFloorImpact) {
+    const double beta = 0.9;
+    const Scenario s = drop(0.45, 9.81, 0.0, beta, {0.1, 0, 0});
+    const ExactModel model(s);
+    ASSERT_TRUE(model.rest_time());
+    const Contact& floor = model.contacts().front();
+    EXPECT_EQ(floor.axis, 2);
+    EXPECT_EQ(*model.rest_time(), floor.t);
+    const State after = model.state_at(floor.t + 1);
+    EXPECT_EQ(after.p[2], s.radius);
+    EXPECT_EQ(after.v[2], 0.0);
+    EXPECT_DOUBLE_EQ(after.v[0], 0.1 * beta);  // one contact: slides on at beta v
+    // It slides into the x wall, which stops it (alpha = 0) and stays there.
+    ASSERT_EQ(model.contacts().size(), 2u);
+    EXPECT_EQ(model.contacts()[1].axis, 0);
+    const State end = model.state_at(s.duration);
+    EXPECT_EQ(end.v, Vec3::Zero());
+    EXPECT_EQ(end.p, Vec3(0.95, 0.5, 0.05));
+}
+
+TEST(ExactModelDiagonalGravity, EndsRestingInCornerWithoutHanging) {
+    const Scenario cases[] = {
+        make_scenario(3, {1, 1, 1}, 0.05, {0.5, 0.5, 0.5}, {0.3, 0.2, 0.4}, {-0.3, -0.2, -9.81}, 0.8, 0.99, 60),
+        make_scenario(3, {1, 2, 1}, 0.05, {0.5, 0.5, 0.5}, {0.3, 0.2, 0.4}, {2, -1, 3}, 0.9, 1.0, 60),
+        make_scenario(2, {1, 1, 0}, 0.05, {0.5, 0.5, 0}, {1, 0, 0}, {-1, -1, 0}, 0.8, 0.9, 60),
+        make_scenario(3, {1, 1, 1}, 0.05, {0.5, 0.5, 0.5}, {0.3, 0.2, 0.4}, {-0.3, -0.2, -9.81}, 0.0, 0.5, 60),
+        // Corner Zeno with weak damping and a free axis: the hops must keep
+        // shrinking below ulp(size) instead of being sustained by round-off.
+        make_scenario(3, {1.85, 1.46, 0.53}, 0.05, {1.17, 0.05, 0.34}, {0.4, 0, -0.74}, {6.1, 7.9, 0}, 0.99, 0.32, 100),
+    };
+    for (const Scenario& s : cases) {
+        const ExactModel model(s);
+        EXPECT_FALSE(model.event_cap_hit());
+        EXPECT_LT(model.contacts().size(), 100'000u);
+        EXPECT_EQ(model.rest_time().has_value(), s.gravity[s.vertical_axis()] != 0);
+        const State end = model.state_at(s.duration);
+        EXPECT_EQ(end.v, Vec3::Zero());
+        for (int i = 0; i < s.dim; ++i) {
+            if (s.gravity[i] == 0) continue;  // stopped somewhere along a gravity-free axis
+            EXPECT_EQ(end.p[i], s.gravity[i] < 0 ? s.radius : s.room[i] - s.radius) << "axis " << i;
+        }
+    }
+}
+
+TEST(ExactModel2D, Seed2dWorks) {
+    const Scenario s = seed_2d();
+    const ExactModel model(s);
+    ASSERT_FALSE(model.contacts().empty());
+    // It starts against the ceiling but not moving into it: no contact at 0.
+    const Contact& first = model.contacts().front();
+    EXPECT_EQ(first.axis, 0);
+    EXPECT_EQ(first.side, +1);
+    EXPECT_NEAR(first.t, 0.45 / 0.3, 1e-12);
+    for (const Contact& c : model.contacts()) {
+        EXPECT_LT(c.axis, 2);
+        EXPECT_EQ(c.p[2], 0.0);
+        EXPECT_EQ(c.v_after[2], 0.0);
+    }
+    EXPECT_EQ(model.apexes().front().t, 0.0);
+    EXPECT_TRUE(model.rest_time());
+    model.sample_document_clock([&](const State& st) {
+        expect_inside(s, st);
+        EXPECT_EQ(st.p[2], 0.0);
+        EXPECT_EQ(st.v[2], 0.0);
+    });
+}
+
+TEST(ExactModelSampling, DocumentClockRowsAndTimes) {
+    for (const Scenario& s : {seed_3d(), seed_2d()}) {
+        const ExactModel model(s);
+        std::vector<State> rows;
+        model.sample_document_clock([&](const State& st) { rows.push_back(st); });
+        ASSERT_EQ(static_cast<std::int64_t>(rows.size()), document_step_count(s.dt, s.duration) + 1);
+        double t = 0;
+        for (const State& row : rows) {
+            ASSERT_EQ(row.t, t);
+            const State direct = model.state_at(t);
+            ASSERT_EQ(row.p, direct.p);
+            ASSERT_EQ(row.v, direct.v);
+            t = t + s.dt;
+        }
+        EXPECT_LE(rows.back().t, model.horizon());
+    }
+}
+
+TEST(ExactModelRoots, NoCancellationForFastBallInWeakGravity) {
+    // Naive (-b + sqrt(b^2 - 4ac)) / 2a loses most digits here.
+    const double u = 1e3, g = 1e-7, d = 0.45;
+    const Scenario s = make_scenario(3, {1, 1, 1}, 0.05, {0.5, 0.5, 0.5}, {0, 0, u}, {0, 0, -g}, 0.8, 0.99, 1);
+    const ExactModel model(s);
+    ASSERT_FALSE(model.contacts().empty());
+    const long double ul = u, gl = g, dl = d;
+    const long double expected = 2 * dl / (ul + std::sqrt(ul * ul - 2 * gl * dl));
+    EXPECT_NEAR(model.contacts().front().t, static_cast<double>(expected), 1e-15 * static_cast<double>(expected));
+}
+
+TEST(ExactModelRoots, WallOutOfReachIsNeverHit) {
+    // Rises 0.1 m at most: never reaches the ceiling 0.45 m above.
+    const double g = 9.81, u = std::sqrt(2 * g * 0.1);
+    const Scenario s = make_scenario(3, {1, 1, 1}, 0.05, {0.5, 0.5, 0.5}, {0, 0, u}, {0, 0, -g}, 0.8, 0.99, 5);
+    const ExactModel model(s);
+    ASSERT_FALSE(model.contacts().empty());
+    EXPECT_EQ(model.contacts().front().side, -1);
+    EXPECT_NEAR(model.apexes().front().height, 0.6, 1e-12);
+}
+
+TEST(ExactModelCap, FlagsTheEventCap) {
+    const Scenario s = make_scenario(3, {1, 1, 1}, 0.05, {0.5, 0.5, 0.5}, {1, 0, 0}, Vec3::Zero(), 1, 1, 100);
+    const ExactModel model(s, 10);
+    EXPECT_TRUE(model.event_cap_hit());
+    EXPECT_EQ(model.contacts().size(), 10u);
+    EXPECT_FALSE(ExactModel(s).event_cap_hit());
+}
+
+TEST(ExactModelRest, SolveDoesNotDependOnDurationOnceAtRest) {
+    Scenario s = seed_3d();
+    const ExactModel short_run(s);
+    s.duration = 1e6;
+    const ExactModel long_run(s);
+    EXPECT_EQ(long_run.contacts().size(), short_run.contacts().size());
+    EXPECT_EQ(long_run.rest_time(), short_run.rest_time());
+    EXPECT_EQ(long_run.state_at(1e6).p, short_run.state_at(42).p);
+}
+
+TEST(ExactModelRest, StartingAtRestOnTheFloor) {
+    const Scenario s = drop(0.0, 9.81, 0.8);
+    const ExactModel model(s);
+    EXPECT_TRUE(model.contacts().empty());
+    EXPECT_TRUE(model.apexes().empty());
+    EXPECT_EQ(model.rest_time(), 0.0);
+    EXPECT_EQ(model.state_at(5).p, s.position);
+}
+
+}  // namespace
+}  // namespace bouncecheck
