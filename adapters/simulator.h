@@ -1,0 +1,54 @@
+// The one interface every simulator implements: reference, exact and the engines.
+#pragma once
+
+#include "compare/summary.h"
+#include "compare/trajectory_csv.h"
+#include "scenarios/scenario.h"
+
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace bouncecheck {
+
+class Simulator {
+public:
+    virtual ~Simulator() = default;
+    virtual std::string_view name() const = 0;
+    virtual std::string_view description() const = 0;
+    // Why this simulator cannot run `s`, or nothing if it can. Asked before any set-up.
+    virtual std::optional<std::string> cannot_run(const Scenario& s) const {
+        (void)s;
+        return std::nullopt;
+    }
+    // Runs `s` to its end, streaming states into a recorder (and into
+    // `trajectory` when given). Status, counts, apexes and timing come back.
+    virtual SimulatorSummary run(const Scenario& s, TrajectoryCsv* trajectory) const = 0;
+};
+
+// Every simulator this build contains, `reference` and `exact` first.
+std::vector<std::unique_ptr<const Simulator>> built_simulators();
+
+// The shared stepping loop of the stepped simulators: the initial state, then
+// one state per step until the model's clock ends or the recorder flags a failure.
+template <class Model>
+void step_to_end(Model& model, StreamRecorder& recorder) {
+    recorder.on_state(model.state(), ContactMask{});
+    while (model.running() && !recorder.failed()) {
+        const ContactMask contact = model.step();
+        recorder.on_state(model.state(), contact);
+    }
+}
+
+// Wall-clock seconds spent in `body()`.
+template <class F>
+double timed_seconds(F&& body) {
+    const auto start = std::chrono::steady_clock::now();
+    body();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace bouncecheck

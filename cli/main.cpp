@@ -1,0 +1,233 @@
+// The `bouncecheck` command: run, validate, list.
+//
+// Exit status (a contract, see README): 0 ran and every threshold held;
+// 1 a threshold was exceeded; 2 bad input or usage, nothing run;
+// 3 a simulator failed (the other results are still written).
+#include "adapters/simulator.h"
+#include "compare/report.h"
+#include "scenarios/loader.h"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using namespace bouncecheck;
+
+namespace {
+
+enum Exit { kOk = 0, kThresholdExceeded = 1, kBadInput = 2, kSimulatorFailed = 3 };
+
+fs::path bundled_scenario_dir() {
+    if (const char* dir = std::getenv("BOUNCECHECK_SCENARIOS")) return dir;
+    return BOUNCECHECK_SCENARIO_DIR;
+}
+
+// The bundled scenarios: *.toml directly in the scenario folder, by name.
+std::vector<fs::path> bundled_scenarios() {
+    std::vector<fs::path> files;
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(bundled_scenario_dir(), ec))
+        if (entry.is_regular_file() && entry.path().extension() == ".toml") files.push_back(entry.path());
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+// Loads every file before anything runs; prints every diagnostic. Empty on failure.
+std::optional<std::vector<Scenario>> load_all(const std::vector<fs::path>& files) {
+    std::vector<Scenario> scenarios;
+    bool ok = true;
+    for (const auto& f : files) {
+        try {
+            scenarios.push_back(load_scenario(f));
+        } catch (const ScenarioError& e) {
+            for (const auto& d : e.diagnostics()) fmt::print(stderr, "{}\n", d.format());
+            ok = false;
+        }
+    }
+    if (!ok) return std::nullopt;
+    return scenarios;
+}
+
+std::vector<std::string> split_list(const std::string& list) {
+    std::vector<std::string> items;
+    std::stringstream ss(list);
+    for (std::string item; std::getline(ss, item, ',');)
+        if (!item.empty()) items.push_back(item);
+    return items;
+}
+
+struct RunOptions {
+    std::vector<std::string> files;
+    std::string engines;
+    std::string out_dir = "bouncecheck-out";
+    bool trajectories = false;
+};
+
+int command_run(const RunOptions& opt) {
+    std::vector<fs::path> files(opt.files.begin(), opt.files.end());
+    if (files.empty()) files = bundled_scenarios();
+    if (files.empty()) {
+        fmt::print(stderr, "error: no scenario given and none bundled in {}\n", bundled_scenario_dir().string());
+        return kBadInput;
+    }
+    auto scenarios = load_all(files);
+    if (!scenarios) return kBadInput;
+    std::set<std::string> names;
+    for (const auto& s : *scenarios) {
+        if (!names.insert(s.name).second) {
+            fmt::print(stderr, "error: two scenarios are named '{}': their outputs would collide\n", s.name);
+            return kBadInput;
+        }
+    }
+
+    auto all = built_simulators();
+    std::vector<const Simulator*> selected;
+    if (opt.engines.empty()) {
+        for (const auto& sim : all) selected.push_back(sim.get());
+    } else {
+        for (const auto& wanted : split_list(opt.engines)) {
+            auto it = std::find_if(all.begin(), all.end(), [&](const auto& sim) { return sim->name() == wanted; });
+            if (it == all.end()) {
+                std::string known;
+                for (const auto& sim : all) known += fmt::format("{}{}", known.empty() ? "" : ", ", sim->name());
+                fmt::print(stderr, "error: --engines: unknown simulator '{}' (built: {})\n", wanted, known);
+                return kBadInput;
+            }
+            if (std::find(selected.begin(), selected.end(), it->get()) == selected.end())
+                selected.push_back(it->get());
+        }
+    }
+
+    const fs::path out_dir = opt.out_dir;
+    try {
+        fs::create_directories(out_dir);
+    } catch (const std::exception& e) {
+        fmt::print(stderr, "error: --out: cannot create {}: {}\n", out_dir.string(), e.what());
+        return kBadInput;
+    }
+
+    RunReport report;
+    bool any_failed = false;
+    for (const Scenario& s : *scenarios) {
+        ScenarioRun run{s, {}};
+        for (const Simulator* sim : selected) {
+            SimulatorSummary result;
+            result.simulator = std::string(sim->name());
+            if (auto why = sim->cannot_run(s)) {
+                result.status = RunStatus::skipped;
+                result.reason = *why;
+                run.results.push_back(result);
+                continue;
+            }
+            try {
+                std::optional<TrajectoryCsv> csv;
+                fs::path relative;
+                if (opt.trajectories) {
+                    relative = fs::path(s.name) / (result.simulator + ".csv");
+                    fs::create_directories(out_dir / s.name);
+                    csv.emplace(out_dir / relative, s.dim);
+                }
+                result = sim->run(s, csv ? &*csv : nullptr);
+                if (csv) {
+                    csv->commit();
+                    result.trajectory_file = relative.string();
+                }
+            } catch (const std::exception& e) {
+                result.status = RunStatus::failed;
+                result.reason = fmt::format("exception: {}", e.what());
+            }
+            any_failed = any_failed || result.status == RunStatus::failed;
+            run.results.push_back(std::move(result));
+        }
+        report.scenarios.push_back(std::move(run));
+    }
+
+    fmt::print("{}", format_summary(report));
+    write_report_json(report, out_dir);
+    fmt::print("\nwrote {}\n", (out_dir / "report.json").string());
+    return any_failed ? kSimulatorFailed : kOk;
+}
+
+int command_validate(const std::vector<std::string>& files) {
+    bool ok = true;
+    for (const auto& f : files) {
+        try {
+            const Scenario s = load_scenario(f);
+            fmt::print("{}: ok ({}, {}D)\n", f, s.name, s.dim);
+        } catch (const ScenarioError& e) {
+            for (const auto& d : e.diagnostics()) fmt::print(stderr, "{}\n", d.format());
+            ok = false;
+        }
+    }
+    return ok ? kOk : kBadInput;
+}
+
+int command_list() {
+    fmt::print("bundled scenarios ({}):\n", bundled_scenario_dir().string());
+    for (const auto& f : bundled_scenarios()) {
+        try {
+            const Scenario s = load_scenario(f);
+            fmt::print("  {:<12} {}D  {}\n", s.name, s.dim, f.filename().string());
+        } catch (const ScenarioError& e) {
+            fmt::print("  {:<12} invalid: {}\n", f.filename().string(), e.diagnostics().front().format());
+        }
+    }
+    fmt::print("simulators:\n");
+    for (const auto& sim : built_simulators()) fmt::print("  {:<12} {}\n", sim->name(), sim->description());
+    return kOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"bouncecheck: cross-checks physics engines against the seed document's bouncing-ball model"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", std::string(BOUNCECHECK_VERSION));
+
+    RunOptions run_opt;
+    auto* run = app.add_subcommand("run", "Run scenarios on every selected simulator and write the reports");
+    run->add_option("scenarios", run_opt.files, "Scenario files (default: the bundled ones)");
+    run->add_option("--engines", run_opt.engines, "Comma-separated simulators to run (default: every one built)");
+    run->add_option("--out", run_opt.out_dir, "Output folder")->capture_default_str();
+    run->add_flag("--trajectories", run_opt.trajectories,
+                  "Write DIR/<scenario>/<simulator>.csv with one row per step");
+
+    std::vector<std::string> validate_files;
+    auto* validate = app.add_subcommand("validate", "Check scenario files without running them");
+    validate->add_option("files", validate_files, "Scenario files")->required();
+
+    auto* list = app.add_subcommand("list", "Show the bundled scenarios and the simulators built");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        app.exit(e);
+        return kBadInput;  // usage errors share the bad-input status of the contract
+    }
+
+    try {
+        if (*run) return command_run(run_opt);
+        if (*validate) return command_validate(validate_files);
+        if (*list) return command_list();
+    } catch (const std::exception& e) {
+        fmt::print(stderr, "error: {}\n", e.what());
+        return kSimulatorFailed;
+    }
+    return kBadInput;
+}

@@ -1,0 +1,32 @@
+// Output files are written aside and renamed into place, so no reader (or an
+// interrupted run) ever sees half a file.
+#pragma once
+
+#include <cstdio>
+#include <filesystem>
+#include <string_view>
+
+namespace bouncecheck {
+
+class AtomicFile {
+public:
+    // Opens a temporary file beside `target`; throws std::runtime_error on failure.
+    explicit AtomicFile(std::filesystem::path target);
+    AtomicFile(const AtomicFile&) = delete;
+    AtomicFile& operator=(const AtomicFile&) = delete;
+    ~AtomicFile();  // removes the temporary file unless commit() succeeded
+
+    void write(std::string_view bytes);
+    // Flushes, closes and renames the temporary file onto the target.
+    void commit();
+
+private:
+    std::filesystem::path target_;
+    std::filesystem::path temp_;
+    std::FILE* file_ = nullptr;
+};
+
+// Writes `contents` to `target` atomically.
+void write_file_atomically(const std::filesystem::path& target, std::string_view contents);
+
+}  // namespace bouncecheck

@@ -1,0 +1,72 @@
+#include "compare/summary.h"
+
+#include <fmt/format.h>
+
+#include <bit>
+
+namespace bouncecheck {
+
+const char* to_string(RunStatus s) {
+    switch (s) {
+        case RunStatus::ok: return "ok";
+        case RunStatus::skipped: return "skipped";
+        case RunStatus::failed: return "failed";
+    }
+    return "?";
+}
+
+StreamRecorder::StreamRecorder(const Scenario& s, TrajectoryCsv* trajectory)
+    : trajectory_(trajectory), dim_(s.dim), vertical_(s.vertical_axis()) {
+    // The ball has escaped when its centre is beyond a wall's plane: it has
+    // sunk into the wall by more than its radius.
+    low_limit_ = Vec3::Zero();
+    high_limit_ = s.room;
+}
+
+void StreamRecorder::check(const State& s) {
+    if (!failure_.empty()) return;
+    for (int i = 0; i < dim_; ++i) {
+        if (!std::isfinite(s.p[i]) || !std::isfinite(s.v[i])) {
+            failure_ = fmt::format("non-finite state at t = {:.6g}", s.t);
+            return;
+        }
+        if (s.p[i] < low_limit_[i] || s.p[i] > high_limit_[i]) {
+            failure_ = fmt::format("ball left the room at t = {:.6g} (axis {}, centre {:.6g})", s.t, i, s.p[i]);
+            return;
+        }
+    }
+}
+
+void StreamRecorder::count_contacts(const State& s, ContactMask contact) {
+    contacts_ += std::popcount(static_cast<unsigned>(contact.lower)) +
+                 std::popcount(static_cast<unsigned>(contact.upper));
+    if ((contact.lower >> vertical_) & 1u) {
+        ++floor_contacts_;
+        // The interval since the previous floor contact closes: its highest
+        // sample is an apex unless the ball never rose above the floor sample.
+        if (apex_open_ && apex_.t < s.t) push_apex(apex_);
+        apex_open_ = false;
+    }
+}
+
+void StreamRecorder::push_apex(const Apex& a) {
+    if (apexes_.size() < kReportedApexes) apexes_.push_back(a);
+    ++apex_count_;
+}
+
+void StreamRecorder::finish(SimulatorSummary& out) {
+    // A last interval whose highest sample is not its final one did turn over.
+    if (apex_open_ && apex_.t < last_.t) push_apex(apex_);
+    out.steps = states_ > 0 ? states_ - 1 : 0;
+    out.contacts = contacts_;
+    out.floor_contacts = floor_contacts_;
+    out.apexes = apexes_;
+    out.apex_count = apex_count_;
+    out.final_state = last_;
+    if (!failure_.empty()) {
+        out.status = RunStatus::failed;
+        out.reason = failure_;
+    }
+}
+
+}  // namespace bouncecheck

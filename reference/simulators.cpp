@@ -1,0 +1,79 @@
+// `reference` and `exact` behind the common simulator interface.
+#include "reference/simulators.h"
+
+#include "reference/exact_model.h"
+#include "reference/reference_model.h"
+
+namespace bouncecheck {
+
+namespace {
+
+class ReferenceSimulator final : public Simulator {
+public:
+    std::string_view name() const override { return "reference"; }
+    std::string_view description() const override {
+        return "the seed document's explicit Euler model, bit for bit";
+    }
+    SimulatorSummary run(const Scenario& s, TrajectoryCsv* trajectory) const override {
+        SimulatorSummary out;
+        out.simulator = std::string(name());
+        StreamRecorder recorder(s, trajectory);
+        out.run_seconds = timed_seconds([&] {
+            if (s.dim == 2) {
+                ReferenceModel<2> model(s);
+                step_to_end(model, recorder);
+            } else {
+                ReferenceModel<3> model(s);
+                step_to_end(model, recorder);
+            }
+        });
+        recorder.finish(out);
+        return out;
+    }
+};
+
+class ExactSimulator final : public Simulator {
+public:
+    std::string_view name() const override { return "exact"; }
+    std::string_view description() const override {
+        return "the same damping law in continuous time: exact parabolas, analytic impacts, Zeno tail summed";
+    }
+    SimulatorSummary run(const Scenario& s, TrajectoryCsv* trajectory) const override {
+        SimulatorSummary out;
+        out.simulator = std::string(name());
+        StreamRecorder recorder(s, trajectory);
+        std::optional<ExactModel> model;
+        out.run_seconds = timed_seconds([&] {
+            model.emplace(s);
+            model->sample_document_clock([&](const State& st) { recorder.on_state(st, ContactMask{}); });
+        });
+        recorder.finish(out);
+        // Contacts and apexes come from the solution itself, not from samples.
+        const int vertical = s.vertical_axis();
+        out.contacts = static_cast<std::int64_t>(model->contacts().size());
+        out.floor_contacts = 0;
+        for (const Contact& c : model->contacts())
+            if (c.axis == vertical && c.side < 0) ++out.floor_contacts;
+        out.contacts_unbounded = model->summed_tail_contacts() != 0;
+        out.apexes.clear();
+        for (const auto& a : model->apexes()) {
+            if (out.apexes.size() == kReportedApexes) break;
+            out.apexes.push_back(Apex{a.t, a.height});
+        }
+        out.apex_count = static_cast<std::int64_t>(model->apexes().size());
+        out.rest_time = model->rest_time();
+        if (model->event_cap_hit()) {
+            // Past the cap the solution is not computed: no ground truth there.
+            out.status = RunStatus::failed;
+            out.reason = "exact: contact-event cap reached before the end of the run (alpha = 1 pressed into a corner?)";
+        }
+        return out;
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<const Simulator> make_reference_simulator() { return std::make_unique<ReferenceSimulator>(); }
+std::unique_ptr<const Simulator> make_exact_simulator() { return std::make_unique<ExactSimulator>(); }
+
+}  // namespace bouncecheck

@@ -1,0 +1,141 @@
+// The `bouncecheck` command end to end, as a user or a CI script runs it.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+    int status = -1;
+    std::string output;  // stdout and stderr together
+};
+
+Result bouncecheck(const std::string& args) {
+    const std::string cmd = std::string(BOUNCECHECK_CLI) + " " + args + " 2>&1";
+    Result r;
+    FILE* pipe = ::popen(cmd.c_str(), "r");
+    if (!pipe) return r;
+    char buf[4096];
+    for (size_t n; (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) r.output.append(buf, n);
+    const int raw = ::pclose(pipe);
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    return r;
+}
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+fs::path fresh_dir(const std::string& name) {
+    const fs::path dir = fs::temp_directory_path() / ("bouncecheck-test-" + name + "-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    return dir;
+}
+
+const std::string kData = BOUNCECHECK_TEST_DATA;
+const std::string kScenarios = BOUNCECHECK_SCENARIO_DIR;
+
+TEST(Cli, RunBundledWritesGoldenTrajectoriesAndReport) {
+    const fs::path out = fresh_dir("run");
+    const Result r = bouncecheck("run --trajectories --out " + out.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("seed-2d"), std::string::npos);
+    EXPECT_NE(r.output.find("seed-3d"), std::string::npos);
+    // The reference's trajectory files are the golden files, byte for byte.
+    EXPECT_EQ(slurp(out / "seed-2d" / "reference.csv"), slurp(kData + "/seed-2d.csv"));
+    EXPECT_EQ(slurp(out / "seed-3d" / "reference.csv"), slurp(kData + "/seed-3d.csv"));
+    // exact is sampled at the reference's times: same rows, same t column.
+    for (const char* name : {"seed-2d", "seed-3d"}) {
+        std::ifstream ref(out / name / "reference.csv"), ex(out / name / "exact.csv");
+        std::string a, b;
+        int rows = 0;
+        while (std::getline(ref, a)) {
+            ASSERT_TRUE(std::getline(ex, b)) << name << " exact.csv is short at row " << rows;
+            EXPECT_EQ(a.substr(0, a.find(',')), b.substr(0, b.find(','))) << name << " row " << rows;
+            ++rows;
+        }
+        EXPECT_FALSE(std::getline(ex, b)) << name << " exact.csv has extra rows";
+    }
+    const auto report = nlohmann::json::parse(slurp(out / "report.json"));
+    EXPECT_EQ(report["schema"], "bouncecheck-report/1");
+    ASSERT_EQ(report["scenarios"].size(), 2u);
+    for (const auto& sc : report["scenarios"]) {
+        ASSERT_GE(sc["simulators"].size(), 2u);
+        EXPECT_EQ(sc["simulators"][0]["simulator"], "reference");
+        EXPECT_EQ(sc["simulators"][1]["simulator"], "exact");
+        for (const auto& sim : sc["simulators"]) EXPECT_EQ(sim["status"], "ok") << sim.dump();
+    }
+    EXPECT_EQ(report["scenarios"][1]["simulators"][0]["steps"], 1400);
+    // No temporary file is left beside the outputs.
+    for (const auto& e : fs::recursive_directory_iterator(out))
+        EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << e.path();
+    fs::remove_all(out);
+}
+
+TEST(Cli, EnginesSelectsSimulatorsAndRejectsUnknownOnes) {
+    const fs::path out = fresh_dir("engines");
+    Result r = bouncecheck("run " + kScenarios + "/seed-3d.toml --engines exact --out " + out.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    const auto report = nlohmann::json::parse(slurp(out / "report.json"));
+    ASSERT_EQ(report["scenarios"][0]["simulators"].size(), 1u);
+    EXPECT_EQ(report["scenarios"][0]["simulators"][0]["simulator"], "exact");
+    r = bouncecheck("run --engines reference,warp-drive --out " + out.string());
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("warp-drive"), std::string::npos) << r.output;
+    fs::remove_all(out);
+}
+
+TEST(Cli, InvalidScenarioExits2WithLocatedMessageAndRunsNothing) {
+    const fs::path out = fresh_dir("invalid");
+    fs::create_directories(out);
+    const fs::path bad = out / "bad.toml";
+    std::string text = slurp(kScenarios + "/seed-3d.toml");
+    text.replace(text.find("radius = 0.05"), 13, "radius = -0.05");
+    std::ofstream(bad) << text;
+    const Result r = bouncecheck("run " + bad.string() + " --out " + (out / "o").string());
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find(bad.string() + ":"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("ball.radius"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out / "o" / "report.json"));
+    fs::remove_all(out);
+}
+
+TEST(Cli, ValidateReportsEachFile) {
+    Result r = bouncecheck("validate " + kScenarios + "/seed-2d.toml " + kScenarios + "/seed-3d.toml");
+    EXPECT_EQ(r.status, 0) << r.output;
+    r = bouncecheck("validate " + kScenarios + "/seed-2d.toml /nonexistent/missing.toml");
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("missing.toml"), std::string::npos) << r.output;
+}
+
+TEST(Cli, UsageErrorsExit2AndHelpExits0) {
+    EXPECT_EQ(bouncecheck("").status, 2);
+    EXPECT_EQ(bouncecheck("frobnicate").status, 2);
+    EXPECT_EQ(bouncecheck("run --no-such-flag").status, 2);
+    for (const char* cmd : {"--help", "run --help", "validate --help", "list --help"}) {
+        const Result r = bouncecheck(cmd);
+        EXPECT_EQ(r.status, 0) << cmd;
+        EXPECT_NE(r.output.find("Usage"), std::string::npos) << cmd << r.output;
+    }
+}
+
+TEST(Cli, ListShowsBundledScenariosAndSimulators) {
+    const Result r = bouncecheck("list");
+    ASSERT_EQ(r.status, 0);
+    for (const char* name : {"seed-2d", "seed-3d", "reference", "exact"})
+        EXPECT_NE(r.output.find(name), std::string::npos) << name;
+}
+
+}  // namespace

@@ -1,0 +1,236 @@
+// The reference must be the document's model to the last bit: against the
+// golden files (the document's own MATLAB functions run under GNU Octave), and
+// against hand-worked steps of other rooms, balls, gravities, damping and steps.
+#include "reference/reference_model.h"
+#include "scenarios/loader.h"
+#include "tests/support/csv.h"
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace bouncecheck {
+namespace {
+
+using test::read_csv;
+
+std::uint64_t bits(double x) { return std::bit_cast<std::uint64_t>(x); }
+
+// Every state of the reference run of `s`, initial state first.
+std::vector<State> run_all(const Scenario& s) {
+    std::vector<State> out;
+    auto visit = [&](auto model) {
+        out.push_back(model.state());
+        while (model.running()) {
+            model.step();
+            out.push_back(model.state());
+        }
+    };
+    if (s.dim == 2) visit(ReferenceModel<2>(s));
+    else visit(ReferenceModel<3>(s));
+    return out;
+}
+
+void expect_matches_golden(const std::string& scenario_file, const std::string& golden_file) {
+    const Scenario s = load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/" + scenario_file);
+    const auto golden = read_csv(std::string(BOUNCECHECK_TEST_DATA) + "/" + golden_file);
+    const auto states = run_all(s);
+    ASSERT_EQ(states.size(), golden.rows.size());
+    const int d = s.dim;
+    int mismatches = 0;
+    for (size_t n = 0; n < states.size(); ++n) {
+        const auto& row = golden.rows[n];
+        ASSERT_EQ(row.size(), static_cast<size_t>(1 + 2 * d));
+        std::vector<double> ours{states[n].t};
+        for (int i = 0; i < d; ++i) ours.push_back(states[n].p[i]);
+        for (int i = 0; i < d; ++i) ours.push_back(states[n].v[i]);
+        for (size_t c = 0; c < row.size(); ++c) {
+            if (bits(ours[c]) != bits(row[c]) && ++mismatches <= 5) {
+                ADD_FAILURE() << golden_file << " row " << n << " column " << golden.header[c]
+                              << ": ours " << ours[c] << " golden " << row[c];
+            }
+        }
+    }
+    EXPECT_EQ(mismatches, 0);
+}
+
+TEST(ReferenceModel, Seed2dMatchesGoldenBitForBit) { expect_matches_golden("seed-2d.toml", "seed-2d.csv"); }
+TEST(ReferenceModel, Seed3dMatchesGoldenBitForBit) { expect_matches_golden("seed-3d.toml", "seed-3d.csv"); }
+
+TEST(ReferenceModel, StepCountFollowsTheDocumentsClock) {
+    // 50 / 0.03 = 1666.67: the accumulated t passes 50 after 1667 steps.
+    EXPECT_EQ(document_step_count(0.03, 50.0), 1667);
+    EXPECT_EQ(document_step_count(0.03, 42.0), 1400);
+    // 0.1 accumulated ten times is 0.9999999999999999 < 1: an eleventh step runs.
+    EXPECT_EQ(document_step_count(0.1, 1.0), 11);
+}
+
+Scenario make_3d() {
+    Scenario s;
+    s.name = "hand";
+    s.dim = 3;
+    s.room = {2.0, 1.5, 1.0};
+    s.radius = 0.1;
+    s.position = {1.0, 0.75, 0.5};
+    s.velocity = {0.0, 0.0, 0.0};
+    s.gravity = {0.0, 0.0, -1.0};
+    s.alpha = 0.5;
+    s.beta = 0.75;
+    s.dt = 0.25;
+    s.duration = 10;
+    return s;
+}
+
+// Hand-worked: free flight is Euler with position before velocity.
+TEST(ReferenceModel, FreeFlightStepIsPositionThenVelocity) {
+    Scenario s = make_3d();
+    s.velocity = {0.5, -0.25, 1.0};
+    ReferenceModel<3> m(s);
+    const ContactMask c = m.step();
+    EXPECT_FALSE(c.any());
+    const State st = m.state();
+    EXPECT_EQ(bits(st.p[0]), bits(1.0 + 0.5 * 0.25));
+    EXPECT_EQ(bits(st.p[1]), bits(0.75 + -0.25 * 0.25));
+    EXPECT_EQ(bits(st.p[2]), bits(0.5 + 1.0 * 0.25));  // old velocity moves the ball
+    EXPECT_EQ(bits(st.v[2]), bits(1.0 + -1.0 * 0.25));
+    EXPECT_EQ(bits(st.t), bits(0.25));
+}
+
+// Hand-worked floor contact in 3D: clamp to r, gravity, then v * diag(beta', beta', -alpha)
+// where beta' = (alpha + beta) - alpha.
+TEST(ReferenceModel, FloorContact3dClampsAndDamps) {
+    Scenario s = make_3d();
+    s.alpha = 0.8;
+    s.beta = 0.99;  // (0.8 + 0.99) - 0.8 is computed, as in the document
+    s.position = {1.0, 0.75, 0.15};
+    s.velocity = {0.4, 0.2, -0.4};  // z moves to 0.05 < r
+    ReferenceModel<3> m(s);
+    const ContactMask c = m.step();
+    EXPECT_EQ(c.lower, 0b100);
+    EXPECT_EQ(c.upper, 0);
+    const State st = m.state();
+    EXPECT_EQ(bits(st.p[2]), bits(0.1));
+    const double factor = (0.8 + 0.99) - 0.8;
+    EXPECT_EQ(bits(st.v[0]), bits(0.4 * factor));
+    EXPECT_EQ(bits(st.v[1]), bits(0.2 * factor));
+    EXPECT_EQ(bits(st.v[2]), bits((-0.4 + -1.0 * 0.25) * -0.8));
+}
+
+// A corner in 3D: the lower multiply applies first, then the upper one, so a
+// component touched by one wall gets -alpha there and beta' from the other.
+TEST(ReferenceModel, CornerAppliesLowerThenUpperDiagonal) {
+    Scenario s = make_3d();
+    s.gravity = {0, 0, 0};
+    s.position = {0.15, 1.35, 0.5};
+    s.velocity = {-0.4, 0.4, 0.0};  // x to 0.05 (below r), y to 1.45 (above 1.5 - r)
+    ReferenceModel<3> m(s);
+    const ContactMask c = m.step();
+    EXPECT_EQ(c.lower, 0b001);
+    EXPECT_EQ(c.upper, 0b010);
+    const State st = m.state();
+    EXPECT_EQ(bits(st.p[0]), bits(0.1));
+    EXPECT_EQ(bits(st.p[1]), bits(1.5 - 0.1));
+    const double f = (0.5 + 0.75) - 0.5;
+    EXPECT_EQ(bits(st.v[0]), bits((-0.4 * -0.5) * f));
+    EXPECT_EQ(bits(st.v[1]), bits((0.4 * f) * -0.5));
+    EXPECT_EQ(bits(st.v[2]), bits(0.0));
+}
+
+// 2D keeps the lower-left corner: tests q > 0 and q + 2r < size, clamps to 0
+// and size - 2r, and reports the centre as corner + r.
+TEST(ReferenceModel, CornerArithmeticIn2d) {
+    Scenario s;
+    s.dim = 2;
+    s.room = {1.0, 2.0, 0};
+    s.radius = 0.25;
+    s.position = {0.75, 1.0, 0};  // corner (0.5, 0.75)
+    s.velocity = {1.0, -4.0, 0};  // corner moves to (0.75, -0.25): x beyond 1 - 0.5, y below 0
+    s.gravity = {0.0, -2.0, 0};
+    s.alpha = 0.5;
+    s.beta = 0.75;
+    s.dt = 0.25;
+    s.duration = 1;
+    ReferenceModel<2> m(s);
+    const ContactMask c = m.step();
+    EXPECT_EQ(c.lower, 0b10);
+    EXPECT_EQ(c.upper, 0b01);
+    const State st = m.state();
+    EXPECT_EQ(bits(st.p[0]), bits((1.0 - 2 * 0.25) + 0.25));
+    EXPECT_EQ(bits(st.p[1]), bits(0.0 + 0.25));
+    const double f = (0.5 + 0.75) - 0.5;
+    EXPECT_EQ(bits(st.v[0]), bits((1.0 * f) * -0.5));
+    EXPECT_EQ(bits(st.v[1]), bits(((-4.0 + -2.0 * 0.25) * -0.5) * f));
+}
+
+// The 2D ball of the seed starts with its top at the ceiling. In corner
+// arithmetic it falls; in centre arithmetic it would stay glued there.
+TEST(ReferenceModel, Seed2dBallLeavesTheCeiling) {
+    const Scenario s = load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/seed-2d.toml");
+    ReferenceModel<2> m(s);
+    const ContactMask c = m.step();
+    EXPECT_FALSE(c.any());
+    EXPECT_LT(m.state().v[1], 0.0);
+}
+
+// Subnormal products are computed in integer arithmetic: they must equal the
+// hardware's correctly rounded products for every case, ties included.
+TEST(ReferenceModel, SubnormalProductMatchesHardware) {
+    const double factors[] = {0.99, (0.8 + 0.99) - 0.8, -0.8, 0.03, 0.5, 0.75, -1.0, 1.0, 1e-3, 0.0, -0.0,
+                              1.5, 3.0, 1e10, 1e300, 0.49999999999999994};
+    std::uint64_t state = 0x9E3779B97F4A7C15ull;
+    auto next = [&] { state ^= state << 13; state ^= state >> 7; state ^= state << 17; return state; };
+    for (double y : factors) {
+        for (int n = 0; n < 20000; ++n) {
+            std::uint64_t k = next() & 0x000FFFFFFFFFFFFFull;
+            if (n < 100) k = static_cast<std::uint64_t>(n);  // the smallest, where ties are common
+            const double x = std::bit_cast<double>(k | ((n & 1) ? 0x8000000000000000ull : 0));
+            ASSERT_EQ(bits(detail::exact_product_small(x, y)), bits(x * y)) << "k=" << k << " y=" << y;
+        }
+    }
+}
+
+// A long run into the Zeno regime: tangential velocities reach the subnormal
+// range, and the fast path must give the same bits as plain hardware arithmetic.
+TEST(ReferenceModel, LongRunThroughSubnormalsMatchesPlainArithmetic) {
+    Scenario s = load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/seed-3d.toml");
+    s.duration = 1e9;
+    ReferenceModel<3> fast(s);
+    // The plain model: the same step with hardware arithmetic throughout.
+    std::array<double, 3> p{s.position[0], s.position[1], s.position[2]};
+    std::array<double, 3> v{s.velocity[0], s.velocity[1], s.velocity[2]};
+    const double r = s.radius, a = s.alpha, f = (s.alpha + s.beta) - s.alpha;
+    bool saw_subnormal = false;
+    // seed-3d's tangential velocities turn subnormal near step 1,053,000 and reach
+    // a fixed point of the beta multiply about 7,000 steps later.
+    for (int n = 0; n < 1100000; ++n) {
+        fast.step();
+        std::uint8_t lo = 0, up = 0;
+        for (int i = 0; i < 3; ++i) {
+            const double moved = p[i] + v[i] * s.dt;
+            double q = (moved - r > 0.0) ? moved : r;
+            if (!(moved + r < s.room[i])) q = s.room[i] - r;
+            p[i] = q + 0.0;
+        }
+        for (int i = 0; i < 3; ++i) {
+            v[i] = v[i] + s.gravity[i] * s.dt;
+            if (!(p[i] - r > 0.0)) lo |= 1u << i;
+            if (!(p[i] + r < s.room[i])) up |= 1u << i;
+        }
+        for (std::uint8_t mask : {lo, up})
+            if (mask)
+                for (int i = 0; i < 3; ++i) v[i] = v[i] * (((mask >> i) & 1) ? -a : f) + 0.0;
+        const State st = fast.state();
+        for (int i = 0; i < 3; ++i) {
+            ASSERT_EQ(bits(st.p[i]), bits(p[i])) << "step " << n << " axis " << i;
+            ASSERT_EQ(bits(st.v[i]), bits(v[i])) << "step " << n << " axis " << i;
+            saw_subnormal = saw_subnormal || detail::is_subnormal(v[i]);
+        }
+    }
+    EXPECT_TRUE(saw_subnormal) << "the run did not reach the subnormal range it is meant to test";
+}
+
+}  // namespace
+}  // namespace bouncecheck
