@@ -14,14 +14,15 @@
 // and tests `p - r > 0`, `p + r < size`. Both are reproduced as written.
 //
 // Signed zeros: the MATLAB matrix products start their sums from +0, so a zero
-// result is +0. The step does the same (`+ 0.0`) so the bits match.
+// result is +0. The step does the same (`+ 0.0` where a -0 could arise).
 //
 // Subnormals: in the Zeno regime tangential velocities decay by beta at every
 // floor contact into the subnormal range, where hardware multiplication is
 // about 14x slower, and a subnormal times beta can be a fixed point (it never
-// reaches zero). The step keeps the exact IEEE result but computes products
-// with a subnormal operand in integer arithmetic (see exact_product below), so
-// no result bit changes and no step slows down.
+// reaches zero). Once a velocity component is subnormal the step keeps the
+// exact IEEE result but computes products with a subnormal operand in integer
+// arithmetic (exact_product_small below), so no result bit changes and no step
+// slows down; before that it is the plain hardware step.
 #pragma once
 
 #include "adapters/state.h"
@@ -54,6 +55,17 @@ inline double exact_product_small(double x, double y) {
     if (shift <= 0) return x * y;    // |y| >= 2^52: result may be normal
     // |x*y| = k*m * 2^-shift * 2^-1074: round k*m / 2^shift to an integer,
     // ties to even; that integer's bits are the result (also at 2^52 = DBL_MIN).
+    if (k < (1ull << 11) && shift < 64) {
+        // The common case deep in the Zeno regime (k a few units, y = beta or
+        // alpha): the product fits 64 bits.
+        const std::uint64_t p = k * m;
+        const std::uint64_t q = p >> shift;
+        const std::uint64_t rem = p - (q << shift);
+        const std::uint64_t half = 1ull << (shift - 1);
+        const std::uint64_t rounded = q + ((rem > half || (rem == half && (q & 1))) ? 1 : 0);
+        if (rounded >= (1ull << 53)) return x * y;  // normal beyond 2*DBL_MIN (|y| > 1)
+        return std::bit_cast<double>(sign | rounded);
+    }
     const unsigned __int128 product = static_cast<unsigned __int128>(k) * m;
     if (shift >= 110) return std::bit_cast<double>(sign);  // product < 2^105: below half of 2^-1074
     const unsigned __int128 quotient = product >> shift;
@@ -117,25 +129,9 @@ public:
 
     // One pass of the document's loop body, then t = t + dt.
     ContactMask step() {
-        // EulersPosition: move with the old velocity, then clamp below and above.
-        // Both in-bounds tests look at the unclamped position, as in the document.
-        for (int i = 0; i < D; ++i) {
-            const double moved = detail::advance(q_[i], v_[i], dt_);
-            double q = lower_in_bounds(moved) ? moved : lower_clamp();
-            if (!upper_in_bounds(moved, i)) q = upper_clamp_[i];
-            q_[i] = q + 0.0;
-        }
-        // EulersVelocity: gravity, then the contact tests at the clamped position.
-        ContactMask contact;
-        for (int i = 0; i < D; ++i) {
-            v_[i] = detail::sum(v_[i], gdt_[i]);
-            if (!lower_in_bounds(q_[i])) contact.lower |= 1u << i;
-            if (!upper_in_bounds(q_[i], i)) contact.upper |= 1u << i;
-        }
-        if (contact.lower) apply_damping(contact.lower);
-        if (contact.upper) apply_damping(contact.upper);
-        clock_.advance();
-        return contact;
+        // Subnormal velocities only appear late in the Zeno regime; until then
+        // the plain hardware step is the exact one and needs no checks.
+        return has_subnormal_velocity() ? step_impl<true>() : step_impl<false>();
     }
 
     // The state in the scenario's terms: centre, velocity, time.
@@ -150,6 +146,39 @@ public:
     }
 
 private:
+    // With Careful, products and sums that involve a subnormal operand go
+    // through detail:: (same bits, no slow hardware path).
+    template <bool Careful>
+    ContactMask step_impl() {
+        // EulersPosition: move with the old velocity, then clamp below and above.
+        // Both in-bounds tests look at the unclamped position, as in the document.
+        // A sum is -0 only if both terms are, and q is never -0, so the +0 of
+        // the matrix products needs no extra operation here.
+        for (int i = 0; i < D; ++i) {
+            const double moved = Careful ? detail::advance(q_[i], v_[i], dt_) : q_[i] + v_[i] * dt_;
+            double q = lower_in_bounds(moved) ? moved : lower_clamp();
+            if (!upper_in_bounds(moved, i)) q = upper_clamp_[i];
+            q_[i] = q;
+        }
+        // EulersVelocity: gravity, then the contact tests at the clamped position.
+        ContactMask contact;
+        for (int i = 0; i < D; ++i) {
+            v_[i] = Careful ? detail::sum(v_[i], gdt_[i]) : v_[i] + gdt_[i];
+            if (!lower_in_bounds(q_[i])) contact.lower |= 1u << i;
+            if (!upper_in_bounds(q_[i], i)) contact.upper |= 1u << i;
+        }
+        if (contact.lower) apply_damping<Careful>(contact.lower);
+        if (contact.upper) apply_damping<Careful>(contact.upper);
+        clock_.advance();
+        return contact;
+    }
+
+    bool has_subnormal_velocity() const {
+        bool any = false;
+        for (int i = 0; i < D; ++i) any |= detail::is_subnormal(v_[i]);
+        return any;
+    }
+
     // The document's in-bounds tests, in its own arithmetic.
     bool lower_in_bounds(double q) const { return D == 2 ? q > 0.0 : q - r_ > 0.0; }
     bool upper_in_bounds(double q, int i) const {
@@ -158,10 +187,12 @@ private:
     double lower_clamp() const { return D == 2 ? 0.0 : r_; }
 
     // out*(alpha+beta) - alpha on the diagonal: -alpha for a touched axis.
+    // A zero product is +0 (`+ 0.0`), as the matrix product's sum from +0 gives.
+    template <bool Careful>
     void apply_damping(std::uint8_t touched) {
         for (int i = 0; i < D; ++i) {
             const double factor = (touched >> i) & 1u ? -alpha_ : tangential_factor_;
-            v_[i] = detail::product(v_[i], factor) + 0.0;
+            v_[i] = (Careful ? detail::product(v_[i], factor) : v_[i] * factor) + 0.0;
         }
     }
 
