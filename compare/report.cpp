@@ -52,6 +52,11 @@ nlohmann::json result_json(const SimulatorSummary& r, int dim) {
     j["run_seconds"] = r.run_seconds;
     j["ns_per_step"] = r.steps > 0 ? r.run_seconds * 1e9 / static_cast<double>(r.steps) : 0.0;
     if (!r.trajectory_file.empty()) j["trajectory"] = r.trajectory_file;
+    if (!r.settings.empty()) {
+        nlohmann::json settings = nlohmann::json::array();
+        for (const auto& st : r.settings) settings.push_back({{"key", st.key}, {"value", st.value}, {"why", st.why}});
+        j["settings"] = settings;
+    }
     return j;
 }
 

@@ -30,6 +30,13 @@ struct SimulatorSummary {
     std::int64_t apex_count = 0;
     std::optional<double> rest_time;  // vertical motion at rest on the floor from this time
     State final_state;
+    // Every setting that changes the answer, as used (engine version,
+    // precision, restitution and friction and their combine rules, thresholds,
+    // slop, sleeping, scale...): key, value, and why it was chosen.
+    struct Setting {
+        std::string key, value, why;
+    };
+    std::vector<Setting> settings;
     double run_seconds = 0;  // wall time of the run, recording included
     std::string trajectory_file;  // relative to the output folder, if written
 };

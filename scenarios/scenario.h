@@ -4,11 +4,25 @@
 #include <Eigen/Core>
 
 #include <filesystem>
+#include <map>
 #include <string>
 
 namespace bouncecheck {
 
 using Vec3 = Eigen::Vector3d;
+
+// How an engine reproduces the tangential damping beta ([engines.<name>]).
+enum class TangentialModel {
+    friction,     // Coulomb friction with coefficient `friction` (mu), tuned by `bouncecheck calibrate`
+    per_contact,  // mu = 0; the engine's contact callback scales tangential velocity by beta once per contact
+};
+
+// Per-engine settings of a scenario: the table [engines.<name>].
+struct EngineOptions {
+    TangentialModel tangential_model = TangentialModel::friction;
+    double friction = 0.0;      // mu, friction model only
+    bool free_rotation = true;  // false locks the ball's rotation
+};
 
 // Immutable once loaded (see scenarios/loader.h). Vectors hold `dim` used
 // components; in 2D the third component is zero and ignored. The vertical axis
@@ -31,7 +45,14 @@ struct Scenario {
     double dt = 0.03;        // step of the stepped simulators, and sample spacing of exact
     double duration = 42.0;  // simulated time
 
+    // [engines.<name>] tables; an engine without one runs with EngineOptions{}.
+    std::map<std::string, EngineOptions> engines;
+
     int vertical_axis() const { return dim - 1; }
+    EngineOptions engine_options(const std::string& engine) const {
+        const auto it = engines.find(engine);
+        return it == engines.end() ? EngineOptions{} : it->second;
+    }
 };
 
 }  // namespace bouncecheck

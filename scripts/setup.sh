@@ -12,6 +12,7 @@ PACKAGES=(
   build-essential cmake pkg-config
   libeigen3-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libfmt-dev
   libgtest-dev libbenchmark-dev
+  libbullet-dev libode-dev libbox2d-dev
 )
 
 missing=()

@@ -1,0 +1,71 @@
+#include "adapters/engine.h"
+
+#include "reference/document_clock.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace bouncecheck {
+
+std::vector<Wall> room_walls(const Scenario& s) {
+    std::vector<Wall> walls;
+    for (int axis = 0; axis < s.dim; ++axis) {
+        walls.push_back(Wall{axis, -1, 0.0});
+        walls.push_back(Wall{axis, +1, s.room[axis]});
+    }
+    return walls;
+}
+
+StreamContactDetector::StreamContactDetector(const Scenario& s)
+    : dim_(s.dim), radius_(s.radius), room_(s.room), dt_(s.dt) {}
+
+ContactMask StreamContactDetector::detect(const State& previous, const State& current) const {
+    ContactMask mask;
+    for (int i = 0; i < dim_; ++i) {
+        // Near enough to have touched during the step: one step of travel at
+        // the incoming speed, plus a tenth of the radius for contact margins.
+        const double reach = std::abs(previous.v[i]) * dt_ + 0.1 * radius_;
+        const bool near_lower = current.p[i] - radius_ <= reach;
+        const bool near_upper = room_[i] - radius_ - current.p[i] <= reach;
+        if (near_lower && previous.v[i] < 0 && current.v[i] >= 0) mask.lower |= 1u << i;
+        if (near_upper && previous.v[i] > 0 && current.v[i] <= 0) mask.upper |= 1u << i;
+    }
+    return mask;
+}
+
+std::optional<std::string> EngineSimulator::cannot_run(const Scenario& s) const {
+    const EngineCapabilities caps = capabilities();
+    if (s.dim == 3 && !caps.runs_3d) return fmt::format("{} is a 2D engine: it cannot run a 3D scenario", name());
+    if (s.dim == 2 && !caps.runs_2d) return fmt::format("{} cannot run a 2D scenario", name());
+    if (s.engine_options(std::string(name())).tangential_model == TangentialModel::per_contact &&
+        !caps.per_contact_hook)
+        return fmt::format("{} has no per-contact hook for tangential_model = \"per-contact\"", name());
+    return std::nullopt;
+}
+
+SimulatorSummary EngineSimulator::run(const Scenario& s, TrajectoryCsv* trajectory) const {
+    SimulatorSummary out;
+    out.simulator = std::string(name());
+    const EngineOptions options = s.engine_options(out.simulator);
+    StreamRecorder recorder(s, trajectory);
+    const StreamContactDetector detector(s);
+    out.run_seconds = timed_seconds([&] {
+        const std::unique_ptr<EngineWorld> world = build(s, options, out.settings);
+        State previous{0.0, s.position, s.velocity};
+        recorder.on_state(previous, ContactMask{});
+        State current;
+        for (DocumentClock clock(s.dt, s.duration); clock.running() && !recorder.failed();) {
+            world->step();
+            clock.advance();
+            world->read(current);
+            current.t = clock.t();
+            recorder.on_state(current, detector.detect(previous, current));
+            previous = current;
+        }
+    });
+    recorder.finish(out);
+    return out;
+}
+
+}  // namespace bouncecheck

@@ -1,0 +1,88 @@
+// What every engine adapter shares: the stepping loop, recording, the room's
+// walls, unit scaling, contact detection from the state stream and settings
+// reporting. An engine adapter only builds its world and steps it.
+#pragma once
+
+#include "adapters/simulator.h"
+#include "scenarios/scenario.h"
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace bouncecheck {
+
+// What an engine can run, declared up front (asked before any set-up).
+struct EngineCapabilities {
+    bool runs_3d = true;
+    bool runs_2d = true;        // natively or by constraining a 3D body to the vertical plane
+    bool planar_2d_in_3d = false;  // 2D runs as a 3D body locked to the x-z plane
+    bool per_contact_hook = true;  // supports TangentialModel::per_contact
+    std::string precision;         // "double", "float"
+};
+
+// Lengths and times in the engine's world: x_engine = x * length, t_engine = t * time.
+// The law is scale-free when lengths, speeds and gravity scale together, so an
+// engine tuned for metre-sized objects can run the 5 cm ball at a scale it likes.
+struct UnitScale {
+    double length = 1.0;
+    double time = 1.0;
+    double to_engine_length(double x) const { return x * length; }
+    double to_engine_velocity(double v) const { return v * length / time; }
+    double to_engine_acceleration(double a) const { return a * length / (time * time); }
+    double to_engine_time(double t) const { return t * time; }
+    double from_engine_length(double x) const { return x / length; }
+    double from_engine_velocity(double v) const { return v * time / length; }
+};
+
+// One wall of the room: the plane x[axis] = offset, facing inwards.
+struct Wall {
+    int axis;
+    int side;       // -1 lower (offset 0), +1 upper (offset room[axis])
+    double offset;  // scenario units
+};
+std::vector<Wall> room_walls(const Scenario& s);
+
+// A built engine world, stepped one engine step of the scenario's dt at a time.
+class EngineWorld {
+public:
+    virtual ~EngineWorld() = default;
+    // Exactly one engine step of dt (no substeps, no interpolation).
+    virtual void step() = 0;
+    // Ball centre and velocity in scenario units; the loop sets t.
+    virtual void read(State& out) const = 0;
+};
+
+// Contacts seen in a stream of states: a wall contact is counted when the
+// normal velocity component turns from moving into the wall to not moving into
+// it while the ball is within `reach` of touching that wall. `reach` allows for
+// the engine's contact margin and one step of travel.
+class StreamContactDetector {
+public:
+    explicit StreamContactDetector(const Scenario& s);
+    ContactMask detect(const State& previous, const State& current) const;
+
+private:
+    int dim_;
+    double radius_;
+    Vec3 room_;
+    double dt_;
+};
+
+// Base of every engine adapter. Subclasses say what they can run, which
+// settings they use, and build the world; run() is shared.
+class EngineSimulator : public Simulator {
+public:
+    std::optional<std::string> cannot_run(const Scenario& s) const override;
+    SimulatorSummary run(const Scenario& s, TrajectoryCsv* trajectory) const final;
+
+    virtual EngineCapabilities capabilities() const = 0;
+
+protected:
+    // Builds the world for `s`, appending every setting that changes the answer to `settings`.
+    virtual std::unique_ptr<EngineWorld> build(const Scenario& s, const EngineOptions& options,
+                                               std::vector<SimulatorSummary::Setting>& settings) const = 0;
+};
+
+}  // namespace bouncecheck
