@@ -16,6 +16,7 @@
 #include <cerrno>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <set>
 #include <system_error>
@@ -310,13 +311,35 @@ public:
     }
 
     // A string value, or null (reported if present with another type, or required and missing).
-    const toml::value<std::string>* string(const toml::table& root, std::string_view key, bool required) {
-        const toml::node* node = get(root, "", key, required);
+    const toml::value<std::string>* string(const toml::table& table, std::string_view key, bool required,
+                                           std::string_view path = "") {
+        const toml::node* node = get(table, path, key, required);
         if (!node) return nullptr;
         const auto* s = node->as_string();
-        if (!s) report(start_of(*node), std::string(key), fmt::format("expected a string, got {}", type_name(*node)));
+        if (!s)
+            report(start_of(*node), child_key(path, key), fmt::format("expected a string, got {}", type_name(*node)));
         return s;
     }
+
+    // An optional table inside `table`, or null (reported if present but not a table).
+    const toml::table* optional_table(const toml::table& table, std::string_view path, std::string_view key) {
+        const toml::node* node = get(table, path, key, false);
+        if (!node) return nullptr;
+        const toml::table* t = node->as_table();
+        if (!t)
+            report(start_of(*node), child_key(path, key), fmt::format("expected a table, got {}", type_name(*node)));
+        return t;
+    }
+
+    // An optional number in `table`.
+    std::optional<Number> optional_number(const toml::table& table, std::string_view path, std::string_view key) {
+        const toml::node* node = get(table, path, key, false);
+        if (!node) return std::nullopt;
+        return check_number(*node, child_key(path, key));
+    }
+
+    // Marks every key of `table` as looked at, so unknown ones are reported.
+    void watch_table(const toml::table& table, std::string_view path) { watch(table, path); }
 
     // A required number in `table` (nothing is reported if the table itself is missing).
     std::optional<Number> number(const toml::table* table, std::string_view path, std::string_view key) {
@@ -360,7 +383,7 @@ public:
         for (const auto& [table, path] : watched_) {
             for (const auto& [key, node] : *table) {
                 if (used_.count(&node)) continue;
-                const bool reserved = path.empty() && (key.str() == "engines" || key.str() == "thresholds");
+                const bool reserved = path.empty() && key.str() == "thresholds";
                 report(start_of(key), child_key(path, key.str()),
                        reserved ? fmt::format("unknown key: the [{}] table is reserved and not supported yet",
                                               key.str())
@@ -433,6 +456,53 @@ Vec3 to_vec3(const std::vector<Number>& numbers) {
     return v;
 }
 
+// [engines.<name>]: per-engine settings. Engine names are checked against
+// every engine bouncecheck knows, built or not, so a file validates the same
+// on every build.
+std::map<std::string, EngineOptions> read_engines(const toml::table& root, Checker& c) {
+    static constexpr std::array<std::string_view, 3> kEngines{"bullet", "ode", "box2d"};
+    std::map<std::string, EngineOptions> engines;
+    const toml::table* table = c.optional_table(root, "", "engines");
+    if (!table) return engines;
+    for (const auto& [key, node] : *table) {
+        const std::string name(key.str());
+        const std::string path = child_key("engines", name);
+        if (std::find(kEngines.begin(), kEngines.end(), name) == kEngines.end()) continue;  // reported as unknown
+        const toml::table* engine = c.optional_table(*table, "engines", name);
+        if (!engine) continue;
+        c.watch_table(*engine, path);
+        EngineOptions options;
+        if (const auto* model = c.string(*engine, "tangential_model", false, path)) {
+            if (model->get() == "friction") options.tangential_model = TangentialModel::friction;
+            else if (model->get() == "per-contact") options.tangential_model = TangentialModel::per_contact;
+            else
+                c.report(start_of(*model), child_key(path, "tangential_model"),
+                         fmt::format("must be \"friction\" or \"per-contact\", got \"{}\"", printable(model->get())));
+        }
+        if (const auto mu = c.optional_number(*engine, path, "friction")) {
+            c.expect(mu->value >= 0 && mu->value <= 10, *mu,
+                     fmt::format("friction coefficient must be within [0, 10], got {}", mu->value));
+            c.expect(options.tangential_model == TangentialModel::friction, *mu,
+                     "friction applies only with tangential_model = \"friction\" (per-contact runs with mu = 0)");
+            options.friction = mu->value;
+        }
+        if (const auto* rotation = c.string(*engine, "rotation", false, path)) {
+            if (rotation->get() == "free") options.free_rotation = true;
+            else if (rotation->get() == "locked") options.free_rotation = false;
+            else
+                c.report(start_of(*rotation), child_key(path, "rotation"),
+                         fmt::format("must be \"free\" or \"locked\", got \"{}\"", printable(rotation->get())));
+        }
+        engines[name] = options;
+    }
+    for (const auto& [key, node] : *table) {
+        if (std::find(kEngines.begin(), kEngines.end(), key.str()) != kEngines.end()) continue;
+        c.report(start_of(key), child_key("engines", key.str()), "unknown engine (known: bullet, ode, box2d)");
+        c.get(*table, "engines", key.str(), false);  // reported here, not again as an unknown key
+    }
+    return engines;
+}
+
 Scenario validate(const toml::table& root, Checker& c) {
     const auto* name = c.string(root, "name", true);
     const auto* description = c.string(root, "description", false);
@@ -456,6 +526,7 @@ Scenario validate(const toml::table& root, Checker& c) {
     const auto beta = c.number(damping, "damping", "tangential");
     const auto dt = c.number(run, "run", "dt");
     const auto duration = c.number(run, "run", "duration");
+    auto engines = read_engines(root, c);
     c.report_unknown_keys();
 
     if (radius) c.expect(radius->value > 0, *radius, fmt::format("must be > 0, got {}", radius->value));
@@ -511,6 +582,7 @@ Scenario validate(const toml::table& root, Checker& c) {
     s.beta = beta->value;
     s.dt = dt->value;
     s.duration = duration->value;
+    s.engines = std::move(engines);
     return s;
 }
 

@@ -268,9 +268,40 @@ TEST(ScenarioLoaderInvalid, UnknownKeyIsQuotedAndEscaped) {
     EXPECT_TRUE(single_error(text, "\"odd key\\u000A\"", 2, 1, "unknown key"));
 }
 
-TEST(ScenarioLoaderInvalid, EnginesTableNotSupportedYet) {
+TEST(ScenarioLoaderInvalid, EngineTableRejectsUnknownKeys) {
     const std::string text = std::string(kValid) + "[engines.box2d]\nenabled = true\n";
-    EXPECT_TRUE(single_error(text, "engines", 16, 2, "not supported yet"));
+    EXPECT_TRUE(single_error(text, "engines.box2d.enabled", 17, 1, "unknown key"));
+}
+
+TEST(ScenarioLoaderValid, EngineTablesAreRead) {
+    const std::string text = std::string(kValid) +
+                             "[engines.bullet]\ntangential_model = \"friction\"\nfriction = 0.25\nrotation = \"locked\"\n"
+                             "[engines.ode]\ntangential_model = \"per-contact\"\n";
+    const Scenario s = parse_scenario(text, "engines.toml");
+    ASSERT_EQ(s.engines.size(), 2u);
+    EXPECT_EQ(s.engine_options("bullet").tangential_model, TangentialModel::friction);
+    EXPECT_EQ(s.engine_options("bullet").friction, 0.25);
+    EXPECT_FALSE(s.engine_options("bullet").free_rotation);
+    EXPECT_EQ(s.engine_options("ode").tangential_model, TangentialModel::per_contact);
+    EXPECT_TRUE(s.engine_options("ode").free_rotation);
+    // An engine without a table runs with the defaults.
+    EXPECT_EQ(s.engine_options("box2d").tangential_model, TangentialModel::friction);
+    EXPECT_EQ(s.engine_options("box2d").friction, 0.0);
+}
+
+TEST(ScenarioLoaderInvalid, EngineTableValues) {
+    EXPECT_TRUE(single_error(std::string(kValid) + "[engines.warp]\nfriction = 0.1\n", "engines.warp", 16, 10,
+                             "unknown engine"));
+    EXPECT_TRUE(single_error(std::string(kValid) + "[engines.ode]\ntangential_model = \"sticky\"\n",
+                             "engines.ode.tangential_model", 17, 20, "must be \"friction\" or \"per-contact\""));
+    EXPECT_TRUE(single_error(std::string(kValid) + "[engines.ode]\nfriction = -1\n", "engines.ode.friction", 17, 12,
+                             "within [0, 10]"));
+    EXPECT_TRUE(single_error(std::string(kValid) + "[engines.ode]\ntangential_model = \"per-contact\"\nfriction = 0.1\n",
+                             "engines.ode.friction", 18, 12, "applies only with"));
+    EXPECT_TRUE(single_error(std::string(kValid) + "[engines.box2d]\nrotation = \"spinning\"\n",
+                             "engines.box2d.rotation", 17, 12, "\"free\" or \"locked\""));
+    EXPECT_TRUE(single_error(with("name = \"unit\"\n", "engines = 3\nname = \"unit\"\n"), "engines", 1, 11,
+                             "expected a table"));
 }
 
 TEST(ScenarioLoaderInvalid, ThresholdsTableNotSupportedYet) {
@@ -465,7 +496,7 @@ TEST(ScenarioLoaderInvalidFiles, OutsideRoom2D) {
 TEST(ScenarioLoaderInvalidFiles, ReservedTables) {
     const auto errors = load_errors_of(kInvalidDir / "reserved-tables.toml");
     ASSERT_EQ(errors.size(), 2u) << dump(errors);
-    EXPECT_TRUE(has_error(errors, "engines", 23, 2, "not supported yet"));
+    EXPECT_TRUE(has_error(errors, "engines.box2d.enabled", 24, 1, "unknown key"));
     EXPECT_TRUE(has_error(errors, "thresholds", 26, 2, "not supported yet"));
 }
 
