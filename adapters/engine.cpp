@@ -44,11 +44,11 @@ std::optional<std::string> EngineSimulator::cannot_run(const Scenario& s) const 
     return std::nullopt;
 }
 
-SimulatorSummary EngineSimulator::run(const Scenario& s, TrajectoryCsv* trajectory) const {
+SimulatorSummary EngineSimulator::run(const Scenario& s, StateSink* sink) const {
     SimulatorSummary out;
     out.simulator = std::string(name());
     const EngineOptions options = s.engine_options(out.simulator);
-    StreamRecorder recorder(s, trajectory);
+    StreamRecorder recorder(s, sink);
     const StreamContactDetector detector(s);
     out.run_seconds = timed_seconds([&] {
         const std::unique_ptr<EngineWorld> world = build(s, options, out.settings);

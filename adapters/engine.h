@@ -75,7 +75,7 @@ private:
 class EngineSimulator : public Simulator {
 public:
     std::optional<std::string> cannot_run(const Scenario& s) const override;
-    SimulatorSummary run(const Scenario& s, TrajectoryCsv* trajectory) const final;
+    SimulatorSummary run(const Scenario& s, StateSink* sink) const final;
 
     virtual EngineCapabilities capabilities() const = 0;
 

@@ -2,7 +2,6 @@
 #pragma once
 
 #include "compare/summary.h"
-#include "compare/trajectory_csv.h"
 #include "scenarios/scenario.h"
 
 #include <chrono>
@@ -24,9 +23,9 @@ public:
         (void)s;
         return std::nullopt;
     }
-    // Runs `s` to its end, streaming states into a recorder (and into
-    // `trajectory` when given). Status, counts, apexes and timing come back.
-    virtual SimulatorSummary run(const Scenario& s, TrajectoryCsv* trajectory) const = 0;
+    // Runs `s` to its end, streaming states into a recorder (and into `sink`
+    // when given). Status, counts, apexes and timing come back.
+    virtual SimulatorSummary run(const Scenario& s, StateSink* sink) const = 0;
 };
 
 // Every simulator this build contains, `reference` and `exact` first.
@@ -42,6 +41,13 @@ void step_to_end(Model& model, StreamRecorder& recorder) {
         recorder.on_state(model.state(), contact);
     }
 }
+
+// Keeps every state in memory.
+class StateVector final : public StateSink {
+public:
+    void write(const State& s) override { states.push_back(s); }
+    std::vector<State> states;
+};
 
 // Wall-clock seconds spent in `body()`.
 template <class F>

@@ -14,6 +14,14 @@ struct State {
     Vec3 v = Vec3::Zero();
 };
 
+// Where a simulator's states go when someone wants them all: a trajectory
+// file, or memory (calibration, tests). Runs that need only metrics pass none.
+class StateSink {
+public:
+    virtual ~StateSink() = default;
+    virtual void write(const State& s) = 0;
+};
+
 // A highest point of the vertical coordinate between floor contacts.
 struct Apex {
     double t = 0;

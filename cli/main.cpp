@@ -5,6 +5,7 @@
 // 3 a simulator failed (the other results are still written).
 #include "adapters/simulator.h"
 #include "compare/report.h"
+#include "compare/trajectory_csv.h"
 #include "scenarios/loader.h"
 
 #include <CLI/CLI.hpp>

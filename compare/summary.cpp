@@ -15,8 +15,8 @@ const char* to_string(RunStatus s) {
     return "?";
 }
 
-StreamRecorder::StreamRecorder(const Scenario& s, TrajectoryCsv* trajectory)
-    : trajectory_(trajectory), dim_(s.dim), vertical_(s.vertical_axis()) {
+StreamRecorder::StreamRecorder(const Scenario& s, StateSink* sink)
+    : sink_(sink), dim_(s.dim), vertical_(s.vertical_axis()) {
     // The ball has escaped when its centre is beyond a wall's plane: it has
     // sunk into the wall by more than its radius.
     low_limit_ = Vec3::Zero();

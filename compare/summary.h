@@ -3,7 +3,6 @@
 #pragma once
 
 #include "adapters/state.h"
-#include "compare/trajectory_csv.h"
 #include "scenarios/scenario.h"
 
 #include <cmath>
@@ -45,13 +44,13 @@ inline constexpr std::size_t kReportedApexes = 5;
 
 // Consumes a simulator's state stream: counts contacts, finds apexes (the
 // highest sample between floor contacts), watches for non-finite states and
-// for a ball beyond the room's walls, and writes trajectory rows if asked.
+// for a ball beyond the room's walls, and passes every state to a sink if given.
 class StreamRecorder {
 public:
-    StreamRecorder(const Scenario& s, TrajectoryCsv* trajectory);
+    StreamRecorder(const Scenario& s, StateSink* sink);
 
     void on_state(const State& s, ContactMask contact) {
-        if (trajectory_) trajectory_->write(s);
+        if (sink_) sink_->write(s);
         check(s);
         if (contact.any()) count_contacts(s, contact);
         const double height = s.p[vertical_];
@@ -72,7 +71,7 @@ private:
     void count_contacts(const State& s, ContactMask contact);
     void push_apex(const Apex& a);
 
-    TrajectoryCsv* trajectory_;
+    StateSink* sink_;
     int dim_;
     int vertical_;
     Vec3 low_limit_, high_limit_;  // centre positions beyond which the ball has left the room

@@ -11,10 +11,10 @@
 
 namespace bouncecheck {
 
-class TrajectoryCsv {
+class TrajectoryCsv final : public StateSink {
 public:
     TrajectoryCsv(const std::filesystem::path& target, int dim);
-    void write(const State& s);
+    void write(const State& s) override;
     void commit();  // the file appears only now, complete
 
 private:

@@ -14,10 +14,10 @@ public:
     std::string_view description() const override {
         return "the seed document's explicit Euler model, bit for bit";
     }
-    SimulatorSummary run(const Scenario& s, TrajectoryCsv* trajectory) const override {
+    SimulatorSummary run(const Scenario& s, StateSink* sink) const override {
         SimulatorSummary out;
         out.simulator = std::string(name());
-        StreamRecorder recorder(s, trajectory);
+        StreamRecorder recorder(s, sink);
         out.run_seconds = timed_seconds([&] {
             if (s.dim == 2) {
                 ReferenceModel<2> model(s);
@@ -38,10 +38,10 @@ public:
     std::string_view description() const override {
         return "the same damping law in continuous time: exact parabolas, analytic impacts, Zeno tail summed";
     }
-    SimulatorSummary run(const Scenario& s, TrajectoryCsv* trajectory) const override {
+    SimulatorSummary run(const Scenario& s, StateSink* sink) const override {
         SimulatorSummary out;
         out.simulator = std::string(name());
-        StreamRecorder recorder(s, trajectory);
+        StreamRecorder recorder(s, sink);
         std::optional<ExactModel> model;
         out.run_seconds = timed_seconds([&] {
             model.emplace(s);

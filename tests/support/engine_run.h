@@ -4,6 +4,7 @@
 #pragma once
 
 #include "adapters/simulator.h"
+#include "compare/trajectory_csv.h"
 #include "tests/support/csv.h"
 
 #include <gtest/gtest.h>
