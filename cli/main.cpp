@@ -4,7 +4,9 @@
 // 1 a threshold was exceeded; 2 bad input or usage, nothing run;
 // 3 a simulator failed (the other results are still written).
 #include "adapters/simulator.h"
+#include "compare/calibrate.h"
 #include "compare/report.h"
+#include "compare/atomic_file.h"
 #include "compare/trajectory_csv.h"
 #include "scenarios/loader.h"
 
@@ -16,6 +18,7 @@
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
+#include <fstream>
 #include <set>
 #include <sstream>
 #include <string>
@@ -173,6 +176,47 @@ int command_validate(const std::vector<std::string>& files) {
     return ok ? kOk : kBadInput;
 }
 
+struct CalibrateOptions {
+    std::string file;
+    std::string engine;
+    double max_mu = 1.0;
+    bool write = false;
+};
+
+int command_calibrate(const CalibrateOptions& opt) {
+    auto scenarios = load_all({opt.file});
+    if (!scenarios) return kBadInput;
+    const Scenario& s = scenarios->front();
+    auto all = built_simulators();
+    const auto it = std::find_if(all.begin(), all.end(), [&](const auto& sim) { return sim->name() == opt.engine; });
+    if (it == all.end() || opt.engine == "reference" || opt.engine == "exact") {
+        fmt::print(stderr, "error: --engine: '{}' is not a built engine\n", opt.engine);
+        return kBadInput;
+    }
+    if (s.engine_options(opt.engine).tangential_model != TangentialModel::friction) {
+        fmt::print(stderr, "error: {}: [engines.{}] uses tangential_model = \"per-contact\"; calibration tunes friction\n",
+                   opt.file, opt.engine);
+        return kBadInput;
+    }
+    if (auto why = (*it)->cannot_run(s)) {
+        fmt::print(stderr, "error: {}: {}\n", opt.file, *why);
+        return kBadInput;
+    }
+    const CalibrationResult r = calibrate_friction(s, **it, opt.max_mu);
+    fmt::print("{} on {}: objective = RMS distance of the ball centre from reference over the run\n", opt.engine,
+               s.name);
+    fmt::print("  mu = {:.6g}: divergence {:.4g} m (mu = 0: {:.4g} m; {} runs)\n", r.mu, r.divergence,
+               r.divergence_at_zero, r.evaluated.size());
+    if (opt.write) {
+        std::ifstream in(opt.file, std::ios::binary);
+        std::stringstream text;
+        text << in.rdbuf();
+        write_file_atomically(opt.file, with_calibrated_friction(text.str(), opt.file, opt.engine, r.mu, r.divergence));
+        fmt::print("  wrote friction = {:.6g} into [engines.{}] of {}\n", r.mu, opt.engine, opt.file);
+    }
+    return kOk;
+}
+
 int command_list() {
     fmt::print("bundled scenarios ({}):\n", bundled_scenario_dir().string());
     for (const auto& f : bundled_scenarios()) {
@@ -209,6 +253,16 @@ int main(int argc, char** argv) {
 
     auto* list = app.add_subcommand("list", "Show the bundled scenarios and the simulators built");
 
+    CalibrateOptions calibrate_opt;
+    auto* calibrate = app.add_subcommand(
+        "calibrate", "Find the friction coefficient mu that brings an engine closest to the reference");
+    calibrate->add_option("scenario", calibrate_opt.file, "Scenario file")->required();
+    calibrate->add_option("--engine", calibrate_opt.engine, "Engine to calibrate")->required();
+    calibrate->add_option("--max-mu", calibrate_opt.max_mu, "Upper end of the search")
+        ->capture_default_str()
+        ->check(CLI::Range(1e-3, 10.0));
+    calibrate->add_flag("--write", calibrate_opt.write, "Write the value into the file's [engines.<engine>] table");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -226,6 +280,7 @@ int main(int argc, char** argv) {
         if (*run) return command_run(run_opt);
         if (*validate) return command_validate(validate_files);
         if (*list) return command_list();
+        if (*calibrate) return command_calibrate(calibrate_opt);
     } catch (const std::exception& e) {
         fmt::print(stderr, "error: {}\n", e.what());
         return kSimulatorFailed;

@@ -1,0 +1,77 @@
+// Calibration: the search finds the mu that minimises divergence, and the
+// scenario file is edited without losing anything else.
+#include "adapters/engine.h"
+#include "compare/calibrate.h"
+#include "reference/reference_model.h"
+#include "scenarios/loader.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace bouncecheck {
+namespace {
+
+// A stand-in engine whose "friction" mu acts as a per-contact tangential
+// factor 1 - mu: it equals the reference exactly at mu = 1 - beta.
+class FrictionAsDampingEngine final : public EngineSimulator {
+public:
+    std::string_view name() const override { return "bullet"; }  // any engine name the loader knows
+    std::string_view description() const override { return "test stand-in"; }
+    EngineCapabilities capabilities() const override { return {}; }
+
+protected:
+    std::unique_ptr<EngineWorld> build(const Scenario& s, const EngineOptions& options,
+                                       std::vector<SimulatorSummary::Setting>& settings) const override {
+        struct World final : EngineWorld {
+            explicit World(const Scenario& s) : model(s) {}
+            void step() override { model.step(); }
+            void read(State& out) const override { out = model.state(); }
+            ReferenceModel<3> model;
+        };
+        Scenario tuned = s;
+        tuned.beta = 1.0 - options.friction;
+        settings.push_back({"beta", std::to_string(tuned.beta), "1 - mu"});
+        return std::make_unique<World>(tuned);
+    }
+};
+
+std::string read_text(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+TEST(Calibrate, FindsTheFrictionThatReproducesTheReference) {
+    const Scenario s = load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/seed-3d.toml");
+    const FrictionAsDampingEngine engine;
+    const CalibrationResult r = calibrate_friction(s, engine, 1.0);
+    EXPECT_NEAR(r.mu, 0.01, 1e-3);
+    EXPECT_LT(r.divergence, 0.01 * r.divergence_at_zero);
+    EXPECT_GT(r.evaluated.size(), 15u);
+}
+
+TEST(Calibrate, WritesFrictionIntoTheEngineTable) {
+    const std::string path = std::string(BOUNCECHECK_SCENARIO_DIR) + "/seed-2d.toml";
+    const std::string original = read_text(path);
+    // No table yet: one is appended.
+    const std::string added = with_calibrated_friction(original, "seed-2d.toml", "ode", 0.125, 0.01);
+    EXPECT_EQ(added.substr(0, original.size()), original);
+    EXPECT_EQ(parse_scenario(added, "x.toml").engine_options("ode").friction, 0.125);
+    // A table with a value: the value is replaced, other keys stay.
+    const std::string with_table = original + "\n[engines.ode]\nfriction = 0.5\nrotation = \"locked\"\n";
+    const Scenario replaced = parse_scenario(with_calibrated_friction(with_table, "x.toml", "ode", 0.25, 0.01), "x.toml");
+    EXPECT_EQ(replaced.engine_options("ode").friction, 0.25);
+    EXPECT_FALSE(replaced.engine_options("ode").free_rotation);
+    // A table without the key: it is inserted under the header.
+    const std::string bare_table = original + "\n[engines.box2d]\nrotation = \"free\"\n";
+    EXPECT_EQ(parse_scenario(with_calibrated_friction(bare_table, "x.toml", "box2d", 0.0625, 0.01), "x.toml")
+                  .engine_options("box2d")
+                  .friction,
+              0.0625);
+}
+
+}  // namespace
+}  // namespace bouncecheck
