@@ -7,6 +7,7 @@
 // velocities become subnormal. NaiveStep/N is the same model with plain
 // hardware arithmetic, for the side-by-side ratio.
 #include "reference/exact_model.h"
+#include "reference/plain_reference_model.h"
 #include "reference/reference_model.h"
 
 #include <benchmark/benchmark.h>
@@ -43,29 +44,13 @@ void NaiveStep(benchmark::State& state) {
     const Scenario s = seed3d_with_steps(state.range(0));
     std::int64_t steps = 0;
     for (auto _ : state) {
-        std::array<double, 3> p{s.position[0], s.position[1], s.position[2]};
-        std::array<double, 3> v{s.velocity[0], s.velocity[1], s.velocity[2]};
-        const double r = s.radius, a = s.alpha, f = (s.alpha + s.beta) - s.alpha;
-        for (double t = 0; std::abs(t) < std::abs(s.duration); t = t + s.dt) {
-            unsigned lo = 0, up = 0;
-            for (int i = 0; i < 3; ++i) {
-                const double moved = p[i] + v[i] * s.dt;
-                double q = (moved - r > 0.0) ? moved : r;
-                if (!(moved + r < s.room[i])) q = s.room[i] - r;
-                p[i] = q + 0.0;
-            }
-            for (int i = 0; i < 3; ++i) {
-                v[i] = v[i] + s.gravity[i] * s.dt;
-                if (!(p[i] - r > 0.0)) lo |= 1u << i;
-                if (!(p[i] + r < s.room[i])) up |= 1u << i;
-            }
-            for (unsigned mask : {lo, up})
-                if (mask)
-                    for (int i = 0; i < 3; ++i) v[i] = v[i] * (((mask >> i) & 1u) ? -a : f) + 0.0;
+        PlainReferenceModel3d model(s);
+        for (DocumentClock clock(s.dt, s.duration); clock.running(); clock.advance()) {
+            model.step();
             ++steps;
         }
-        benchmark::DoNotOptimize(p);
-        benchmark::DoNotOptimize(v);
+        benchmark::DoNotOptimize(model.p);
+        benchmark::DoNotOptimize(model.v);
     }
     state.counters["ns_per_step"] =
         benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
