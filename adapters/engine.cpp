@@ -18,7 +18,10 @@ std::vector<Wall> room_walls(const Scenario& s) {
 }
 
 StreamContactDetector::StreamContactDetector(const Scenario& s)
-    : dim_(s.dim), radius_(s.radius), room_(s.room), dt_(s.dt) {}
+    : dim_(s.dim), radius_(s.radius), room_(s.room), dt_(s.dt),
+      // A resting engine ball jitters at the wall with speeds of the order of
+      // what gravity adds in a step; a hundredth of that is not an impact.
+      min_impact_speed_(0.01 * s.gravity.norm() * s.dt + 1e-12) {}
 
 ContactMask StreamContactDetector::detect(const State& previous, const State& current) const {
     ContactMask mask;
@@ -28,8 +31,8 @@ ContactMask StreamContactDetector::detect(const State& previous, const State& cu
         const double reach = std::abs(previous.v[i]) * dt_ + 0.1 * radius_;
         const bool near_lower = current.p[i] - radius_ <= reach;
         const bool near_upper = room_[i] - radius_ - current.p[i] <= reach;
-        if (near_lower && previous.v[i] < 0 && current.v[i] >= 0) mask.lower |= 1u << i;
-        if (near_upper && previous.v[i] > 0 && current.v[i] <= 0) mask.upper |= 1u << i;
+        if (near_lower && previous.v[i] < -min_impact_speed_ && current.v[i] >= 0) mask.lower |= 1u << i;
+        if (near_upper && previous.v[i] > min_impact_speed_ && current.v[i] <= 0) mask.upper |= 1u << i;
     }
     return mask;
 }

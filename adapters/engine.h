@@ -55,9 +55,10 @@ public:
 };
 
 // Contacts seen in a stream of states: a wall contact is counted when the
-// normal velocity component turns from moving into the wall to not moving into
-// it while the ball is within `reach` of touching that wall. `reach` allows for
-// the engine's contact margin and one step of travel.
+// normal velocity component turns from moving into the wall (faster than a
+// noise floor of 1% of |g| dt) to not moving into it, while the ball is within
+// `reach` of touching that wall. `reach` allows for the engine's contact
+// margin and one step of travel.
 class StreamContactDetector {
 public:
     explicit StreamContactDetector(const Scenario& s);
@@ -68,6 +69,7 @@ private:
     double radius_;
     Vec3 room_;
     double dt_;
+    double min_impact_speed_;
 };
 
 // Base of every engine adapter. Subclasses say what they can run, which

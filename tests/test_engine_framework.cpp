@@ -1,0 +1,128 @@
+// The part every engine adapter shares: contact detection from a state
+// stream, the stepping loop, failure handling, capability checks.
+#include "adapters/engine.h"
+#include "reference/document_clock.h"
+#include "scenarios/loader.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+namespace bouncecheck {
+namespace {
+
+Scenario seed3d() { return load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/seed-3d.toml"); }
+
+State at(double z, double vz) {
+    State s;
+    s.p = {0.5, 0.5, z};
+    s.v = {0.0, 0.0, vz};
+    return s;
+}
+
+TEST(StreamContactDetector, ContactLastingSeveralStepsCountsOnceWhenTheNormalVelocityTurns) {
+    const Scenario s = seed3d();  // r = 0.05, dt = 0.03
+    const StreamContactDetector d(s);
+    // Falling onto the floor, squashed for two steps, then leaving.
+    EXPECT_FALSE(d.detect(at(0.06, -0.10), at(0.052, -0.08)).any());
+    EXPECT_FALSE(d.detect(at(0.052, -0.08), at(0.049, -0.02)).any());
+    const ContactMask turn = d.detect(at(0.049, -0.02), at(0.050, 0.06));
+    EXPECT_EQ(turn.lower, 0b100);
+    EXPECT_FALSE(d.detect(at(0.050, 0.06), at(0.052, 0.06)).any());
+}
+
+TEST(StreamContactDetector, StoppingAtTheWallIsAContact) {
+    const StreamContactDetector d(seed3d());
+    EXPECT_EQ(d.detect(at(0.051, -0.05), at(0.05, 0.0)).lower, 0b100);
+}
+
+TEST(StreamContactDetector, JitterOfARestingBallIsNotAContact) {
+    const StreamContactDetector d(seed3d());  // noise floor 0.01 * 0.0981 * 0.03 = 2.9e-5 m/s
+    EXPECT_FALSE(d.detect(at(0.05, -1e-6), at(0.05, 1e-6)).any());
+    EXPECT_TRUE(d.detect(at(0.05, -1e-4), at(0.05, 1e-6)).any());
+}
+
+TEST(StreamContactDetector, TurningInMidAirIsNotAContact) {
+    const StreamContactDetector d(seed3d());
+    // The apex of a flight: vz turns from + to - far from the ceiling.
+    EXPECT_FALSE(d.detect(at(0.7, 0.001), at(0.7, -0.002)).any());
+    // Near the ceiling it is a ceiling contact.
+    EXPECT_EQ(d.detect(at(0.949, 0.05), at(0.95, -0.04)).upper, 0b100);
+}
+
+// A stand-in engine world: free flight with a hook to go wrong.
+class FakeEngine final : public EngineSimulator {
+public:
+    explicit FakeEngine(int fail_at_step = -1, EngineCapabilities caps = {}) : fail_at_(fail_at_step), caps_(caps) {}
+    std::string_view name() const override { return "ode"; }
+    std::string_view description() const override { return "test stand-in"; }
+    EngineCapabilities capabilities() const override { return caps_; }
+    mutable int steps = 0;
+
+protected:
+    std::unique_ptr<EngineWorld> build(const Scenario& s, const EngineOptions&,
+                                       std::vector<SimulatorSummary::Setting>& settings) const override {
+        settings.push_back({"gravity", "scenario's", "test"});
+        struct World final : EngineWorld {
+            World(const Scenario& s, const FakeEngine& e) : state{0, s.position, s.velocity}, dt(s.dt), engine(e) {}
+            void step() override {
+                if (++engine.steps == engine.fail_at_) state.p[0] = std::numeric_limits<double>::quiet_NaN();
+            }
+            void read(State& out) const override { out = state; }
+            State state;
+            double dt;
+            const FakeEngine& engine;
+        };
+        return std::make_unique<World>(s, *this);
+    }
+
+private:
+    int fail_at_;
+    EngineCapabilities caps_;
+};
+
+TEST(EngineSimulator, SharedLoopStepsOnTheDocumentClock) {
+    const Scenario s = seed3d();
+    const FakeEngine engine;
+    StateVector states;
+    const SimulatorSummary r = engine.run(s, &states);
+    EXPECT_EQ(r.status, RunStatus::ok);
+    EXPECT_EQ(r.steps, document_step_count(s.dt, s.duration));
+    EXPECT_EQ(engine.steps, r.steps);
+    ASSERT_EQ(states.states.size(), static_cast<size_t>(r.steps + 1));
+    DocumentClock clock(s.dt, s.duration);
+    for (const State& st : states.states) {
+        EXPECT_EQ(st.t, clock.t());
+        clock.advance();
+    }
+    ASSERT_EQ(r.settings.size(), 1u);
+    EXPECT_EQ(r.settings[0].key, "gravity");
+}
+
+TEST(EngineSimulator, NonFiniteStateFailsTheRunAndStopsStepping) {
+    const FakeEngine engine(/*fail_at_step=*/10);
+    const SimulatorSummary r = engine.run(seed3d(), nullptr);
+    EXPECT_EQ(r.status, RunStatus::failed);
+    EXPECT_NE(r.reason.find("non-finite"), std::string::npos) << r.reason;
+    EXPECT_EQ(engine.steps, 10);
+}
+
+TEST(EngineSimulator, CapabilitiesDecideWhatRunsBeforeAnySetUp) {
+    EngineCapabilities planar_only;
+    planar_only.runs_3d = false;
+    const FakeEngine engine(-1, planar_only);
+    const auto why = engine.cannot_run(seed3d());
+    ASSERT_TRUE(why.has_value());
+    EXPECT_NE(why->find("2D engine"), std::string::npos) << *why;
+    EXPECT_EQ(engine.steps, 0);
+
+    EngineCapabilities no_hook;
+    no_hook.per_contact_hook = false;
+    Scenario s = seed3d();
+    s.engines["ode"].tangential_model = TangentialModel::per_contact;
+    EXPECT_TRUE(FakeEngine(-1, no_hook).cannot_run(s).has_value());
+}
+
+}  // namespace
+}  // namespace bouncecheck
