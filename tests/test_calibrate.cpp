@@ -54,8 +54,10 @@ TEST(Calibrate, FindsTheFrictionThatReproducesTheReference) {
 }
 
 TEST(Calibrate, WritesFrictionIntoTheEngineTable) {
-    const std::string path = std::string(BOUNCECHECK_SCENARIO_DIR) + "/seed-2d.toml";
-    const std::string original = read_text(path);
+    // seed-2d without its [engines] tables.
+    std::string original = read_text(std::string(BOUNCECHECK_SCENARIO_DIR) + "/seed-2d.toml");
+    original = original.substr(0, original.find("\n#"));
+    original = original.substr(0, original.find("[engines."));
     // No table yet: one is appended.
     const std::string added = with_calibrated_friction(original, "seed-2d.toml", "ode", 0.125, 0.01);
     EXPECT_EQ(added.substr(0, original.size()), original);

@@ -77,12 +77,18 @@ TEST(Cli, RunBundledWritesGoldenTrajectoriesAndReport) {
         EXPECT_EQ(sc["simulators"][1]["simulator"], "exact");
         for (const auto& sim : sc["simulators"]) {
             // A simulator that cannot run a scenario (box2d on 3D) is skipped, with its reason.
-            if (sim["status"] == "skipped") EXPECT_FALSE(sim["reason"].get<std::string>().empty()) << sim.dump();
-            else EXPECT_EQ(sim["status"], "ok") << sim.dump();
+            if (sim["status"] == "skipped") {
+                EXPECT_FALSE(sim["reason"].get<std::string>().empty()) << sim.dump();
+            } else {
+                EXPECT_EQ(sim["status"], "ok") << sim.dump();
+            }
         }
     }
-    for (const auto& sc : report["scenarios"])
-        if (sc["scenario"]["name"] == "seed-3d") EXPECT_EQ(sc["simulators"][0]["steps"], 1400);
+    for (const auto& sc : report["scenarios"]) {
+        if (sc["scenario"]["name"] == "seed-3d") {
+            EXPECT_EQ(sc["simulators"][0]["steps"], 1400);
+        }
+    }
     // No temporary file is left beside the outputs.
     for (const auto& e : fs::recursive_directory_iterator(out))
         EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << e.path();
