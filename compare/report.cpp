@@ -45,6 +45,9 @@ nlohmann::json result_json(const SimulatorSummary& r, int dim) {
     nlohmann::json apexes = nlohmann::json::array();
     for (const Apex& a : r.apexes) apexes.push_back({{"t", a.t}, {"height", a.height}});
     j["apexes"] = apexes;
+    nlohmann::json floor = nlohmann::json::array();
+    for (const auto& c : r.first_floor_contacts) floor.push_back({{"t", c.t}, {"restitution", c.restitution}});
+    j["first_floor_contacts"] = floor;
     j["rest_time"] = r.rest_time ? nlohmann::json(*r.rest_time) : nlohmann::json(nullptr);
     j["final_state"] = {{"t", r.final_state.t},
                         {"position", vec_json(r.final_state.p, dim)},

@@ -42,6 +42,11 @@ void StreamRecorder::count_contacts(const State& s, ContactMask contact) {
                  std::popcount(static_cast<unsigned>(contact.upper));
     if ((contact.lower >> vertical_) & 1u) {
         ++floor_contacts_;
+        if (floor_contacts_seen_.size() < kReportedApexes && states_ > 0) {
+            const double incoming = std::abs(last_.v[vertical_]);
+            floor_contacts_seen_.push_back(
+                {s.t, incoming > 0 ? std::abs(s.v[vertical_]) / incoming : 0.0});
+        }
         // The interval since the previous floor contact closes: its highest
         // sample is an apex unless the ball never rose above the floor sample.
         if (apex_open_ && apex_.t < s.t) push_apex(apex_);
@@ -61,6 +66,7 @@ void StreamRecorder::finish(SimulatorSummary& out) {
     out.contacts = contacts_;
     out.floor_contacts = floor_contacts_;
     out.apexes = apexes_;
+    out.first_floor_contacts = floor_contacts_seen_;
     out.apex_count = apex_count_;
     out.final_state = last_;
     if (!failure_.empty()) {

@@ -26,6 +26,14 @@ struct SimulatorSummary {
     std::int64_t floor_contacts = 0;
     bool contacts_unbounded = false;  // exact: infinitely many Zeno contacts summed in closed form
     std::vector<Apex> apexes;         // the first kReportedApexes apexes
+    // The first kReportedApexes floor contacts: time and measured restitution,
+    // |outgoing| / |incoming| normal speed (stepped simulators: from the
+    // samples just before and after the contact; exact: at the instant).
+    struct FloorContact {
+        double t = 0;
+        double restitution = 0;
+    };
+    std::vector<FloorContact> first_floor_contacts;
     std::int64_t apex_count = 0;
     std::optional<double> rest_time;  // vertical motion at rest on the floor from this time
     State final_state;
@@ -77,6 +85,7 @@ private:
     Vec3 low_limit_, high_limit_;  // centre positions beyond which the ball has left the room
     std::int64_t states_ = 0, contacts_ = 0, floor_contacts_ = 0, apex_count_ = 0;
     std::vector<Apex> apexes_;
+    std::vector<SimulatorSummary::FloorContact> floor_contacts_seen_;
     Apex apex_;
     bool apex_open_ = false;
     State last_;

@@ -52,8 +52,13 @@ public:
         const int vertical = s.vertical_axis();
         out.contacts = static_cast<std::int64_t>(model->contacts().size());
         out.floor_contacts = 0;
-        for (const Contact& c : model->contacts())
-            if (c.axis == vertical && c.side < 0) ++out.floor_contacts;
+        out.first_floor_contacts.clear();
+        for (const Contact& c : model->contacts()) {
+            if (c.axis != vertical || c.side >= 0) continue;
+            ++out.floor_contacts;
+            if (out.first_floor_contacts.size() < kReportedApexes)
+                out.first_floor_contacts.push_back({c.t, std::abs(c.v_after[vertical] / c.v_before[vertical])});
+        }
         out.contacts_unbounded = model->summed_tail_contacts() != 0;
         out.apexes.clear();
         for (const auto& a : model->apexes()) {

@@ -87,6 +87,10 @@ TEST(Cli, RunBundledWritesGoldenTrajectoriesAndReport) {
     for (const auto& sc : report["scenarios"]) {
         if (sc["scenario"]["name"] == "seed-3d") {
             EXPECT_EQ(sc["simulators"][0]["steps"], 1400);
+            // exact's first floor contact: at 5.6556 s, restitution alpha at the instant.
+            const auto& first = sc["simulators"][1]["first_floor_contacts"][0];
+            EXPECT_NEAR(first["t"].get<double>(), 5.6556, 1e-4);
+            EXPECT_NEAR(first["restitution"].get<double>(), 0.8, 1e-12);
         }
     }
     // No temporary file is left beside the outputs.
