@@ -85,8 +85,8 @@ std::string format_summary(const RunReport& report) {
     for (const ScenarioRun& run : report.scenarios) {
         const Scenario& s = run.scenario;
         fmt::format_to(out, "\n{} ({}D, dt = {:g} s, duration = {:g} s)\n", s.name, s.dim, s.dt, s.duration);
-        fmt::format_to(out, "  {:<10} {:>9} {:>9}  {:<38} {:>10}\n", "simulator", "steps", "contacts",
-                       "first apex heights (m)", "run time");
+        fmt::format_to(out, "  {:<10} {:>9} {:>9}  {:<31} {:>8} {:>10}\n", "simulator", "steps", "contacts",
+                       "first apex heights (m)", "rest (s)", "run time");
         for (const SimulatorSummary& r : run.results) {
             if (r.status == RunStatus::skipped) {
                 fmt::format_to(out, "  {:<10} skipped: {}\n", r.simulator, r.reason);
@@ -97,8 +97,9 @@ std::string format_summary(const RunReport& report) {
                 apexes += fmt::format("{}{:.4f}", i ? " " : "", r.apexes[i].height);
             const std::string contacts =
                 fmt::format("{}{}", r.contacts, r.contacts_unbounded ? "+inf" : "");
-            fmt::format_to(out, "  {:<10} {:>9} {:>9}  {:<38} {:>8.3f}ms\n", r.simulator, r.steps, contacts,
-                           apexes, r.run_seconds * 1e3);
+            const std::string rest = r.rest_time ? fmt::format("{:.2f}", *r.rest_time) : "-";
+            fmt::format_to(out, "  {:<10} {:>9} {:>9}  {:<31} {:>8} {:>8.3f}ms\n", r.simulator, r.steps, contacts,
+                           apexes, rest, r.run_seconds * 1e3);
             if (r.status == RunStatus::failed) fmt::format_to(out, "  {:<10} FAILED: {}\n", "", r.reason);
         }
     }

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <bit>
 
 namespace bouncecheck {
@@ -21,6 +22,18 @@ StreamRecorder::StreamRecorder(const Scenario& s, StateSink* sink)
     // sunk into the wall by more than its radius.
     low_limit_ = Vec3::Zero();
     high_limit_ = s.room;
+    // A stepped simulator never rests exactly: the reference micro-bounces
+    // forever, fed by one step of gravity per bounce (its steady cycle reaches
+    // about (1+alpha)/(1-alpha) |g| dt: 6.8 |g| dt measured for alpha 0.8), and
+    // engines jitter at a few |g| dt. Rest is declared when, until the end of
+    // the run, the vertical speed stays below k |g| dt and the height above the
+    // floor below k^2/2 |g| dt^2 (+1e-6 r), k = (1+alpha)/(1-alpha) within [2, 20].
+    const double g = std::abs(s.gravity[vertical_]);
+    const double k = s.alpha < 1 ? std::clamp((1 + s.alpha) / (1 - s.alpha), 2.0, 20.0) : 20.0;
+    floor_ = s.radius;
+    rest_speed_ = k * g * s.dt;
+    rest_height_ = 0.5 * k * k * g * s.dt * s.dt + 1e-6 * s.radius;
+    dt_ = s.dt;
 }
 
 void StreamRecorder::check(const State& s) {
@@ -69,6 +82,9 @@ void StreamRecorder::finish(SimulatorSummary& out) {
     out.first_floor_contacts = floor_contacts_seen_;
     out.apex_count = apex_count_;
     out.final_state = last_;
+    // A rest must last: ten steps at least, so that the last samples of a
+    // bouncing run do not count.
+    if (rest_since_ && last_.t - *rest_since_ >= kRestSteps * dt_) out.rest_time = rest_since_;
     if (!failure_.empty()) {
         out.status = RunStatus::failed;
         out.reason = failure_;

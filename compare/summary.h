@@ -35,7 +35,9 @@ struct SimulatorSummary {
     };
     std::vector<FloorContact> first_floor_contacts;
     std::int64_t apex_count = 0;
-    std::optional<double> rest_time;  // vertical motion at rest on the floor from this time
+    // Vertical motion at rest on the floor from this time. exact: the Zeno
+    // accumulation time. Stepped simulators: from the stream (see StreamRecorder).
+    std::optional<double> rest_time;
     State final_state;
     // Every setting that changes the answer, as used (engine version,
     // precision, restitution and friction and their combine rules, thresholds,
@@ -61,6 +63,7 @@ public:
         if (sink_) sink_->write(s);
         check(s);
         if (contact.any()) count_contacts(s, contact);
+        track_rest(s);
         const double height = s.p[vertical_];
         if (!apex_open_ || height > apex_.height) {
             apex_ = Apex{s.t, height};
@@ -78,6 +81,11 @@ private:
     void check(const State& s);
     void count_contacts(const State& s, ContactMask contact);
     void push_apex(const Apex& a);
+    void track_rest(const State& s) {
+        const bool resting = s.p[vertical_] - floor_ <= rest_height_ && std::abs(s.v[vertical_]) <= rest_speed_;
+        if (!resting) rest_since_.reset();
+        else if (!rest_since_) rest_since_ = s.t;
+    }
 
     StateSink* sink_;
     int dim_;
@@ -90,6 +98,11 @@ private:
     bool apex_open_ = false;
     State last_;
     std::string failure_;
+    // Vertical rest: from rest_since_ on, the ball stayed within rest_height_
+    // of the floor with vertical speed below rest_speed_ (see summary.cpp).
+    static constexpr int kRestSteps = 10;
+    double floor_, rest_height_, rest_speed_, dt_;
+    std::optional<double> rest_since_;
 };
 
 }  // namespace bouncecheck

@@ -1,0 +1,68 @@
+// Rest: detected from the state stream, and reached by every engine when
+// physics says so — no threshold or sleeping setting ends the bouncing early.
+#include "adapters/simulator.h"
+#include "compare/summary.h"
+#include "reference/exact_model.h"
+#include "scenarios/loader.h"
+#include "tests/support/engine_run.h"
+
+#include <gtest/gtest.h>
+
+namespace bouncecheck {
+namespace {
+
+Scenario seed(const std::string& file) { return load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/" + file); }
+
+State on_floor(double t, double height, double vz) {
+    State s;
+    s.t = t;
+    s.p = {0.5, 0.5, 0.05 + height};
+    s.v = {0.0, 0.0, vz};
+    return s;
+}
+
+TEST(StreamRecorderRest, RestStartsWhereTheBallStaysDown) {
+    const Scenario s = seed("seed-3d.toml");  // |g| dt = 2.9e-3 m/s; k = 9
+    StreamRecorder recorder(s, nullptr);
+    double t = 0;
+    for (int i = 0; i < 20; ++i) recorder.on_state(on_floor(t += s.dt, 0.01, 0.05 * (i % 2 ? 1 : -1)), {});
+    const double rest_from = t + s.dt;
+    for (int i = 0; i < 20; ++i) recorder.on_state(on_floor(t += s.dt, 1e-5, 0.02 * (i % 2 ? 1 : -1)), {});
+    SimulatorSummary out;
+    recorder.finish(out);
+    ASSERT_TRUE(out.rest_time.has_value());
+    EXPECT_DOUBLE_EQ(*out.rest_time, rest_from);
+}
+
+TEST(StreamRecorderRest, AFewQuietSamplesAtTheEndAreNotRest) {
+    const Scenario s = seed("seed-3d.toml");
+    StreamRecorder recorder(s, nullptr);
+    double t = 0;
+    for (int i = 0; i < 20; ++i) recorder.on_state(on_floor(t += s.dt, 0.01, 0.05), {});
+    for (int i = 0; i < 5; ++i) recorder.on_state(on_floor(t += s.dt, 0.0, 0.0), {});
+    SimulatorSummary out;
+    recorder.finish(out);
+    EXPECT_FALSE(out.rest_time.has_value());
+}
+
+// Every engine, per-contact at dt = 1e-3, comes to rest within half a second
+// of exact's Zeno time (34.03 s, 38.04 s): a restitution threshold or sleeping
+// would stop it seconds earlier, a jitter seconds later or never.
+TEST(EngineRest, EveryEngineRestsWhenExactDoes) {
+    for (const char* file : {"seed-3d-per-contact.toml", "seed-2d-per-contact.toml"}) {
+        Scenario s = seed(file);
+        s.dt = 1e-3;
+        const ExactModel exact(s);
+        ASSERT_TRUE(exact.rest_time().has_value());
+        for (const auto& sim : built_simulators()) {
+            if (sim->name() == "reference" || sim->name() == "exact" || sim->cannot_run(s)) continue;
+            const SimulatorSummary r = sim->run(s, nullptr);
+            ASSERT_EQ(r.status, RunStatus::ok) << sim->name() << ": " << r.reason;
+            ASSERT_TRUE(r.rest_time.has_value()) << sim->name() << " on " << file << " never rests";
+            EXPECT_NEAR(*r.rest_time, *exact.rest_time(), 0.5) << sim->name() << " on " << file;
+        }
+    }
+}
+
+}  // namespace
+}  // namespace bouncecheck
