@@ -71,4 +71,29 @@ SimulatorSummary EngineSimulator::run(const Scenario& s, StateSink* sink) const 
     return out;
 }
 
+namespace {
+
+class DefinedEngineSimulator final : public EngineSimulator {
+public:
+    explicit DefinedEngineSimulator(EngineDefinition d) : d_(std::move(d)) {}
+    std::string_view name() const override { return d_.name; }
+    std::string_view description() const override { return d_.description; }
+    EngineCapabilities capabilities() const override { return d_.capabilities; }
+
+protected:
+    std::unique_ptr<EngineWorld> build(const Scenario& s, const EngineOptions& options,
+                                       std::vector<SimulatorSummary::Setting>& settings) const override {
+        return d_.build(s, options, settings);
+    }
+
+private:
+    EngineDefinition d_;
+};
+
+}  // namespace
+
+std::unique_ptr<const Simulator> make_engine_simulator(EngineDefinition definition) {
+    return std::make_unique<DefinedEngineSimulator>(std::move(definition));
+}
+
 }  // namespace bouncecheck

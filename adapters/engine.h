@@ -6,6 +6,7 @@
 #include "adapters/simulator.h"
 #include "scenarios/scenario.h"
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -86,5 +87,17 @@ protected:
     virtual std::unique_ptr<EngineWorld> build(const Scenario& s, const EngineOptions& options,
                                                std::vector<SimulatorSummary::Setting>& settings) const = 0;
 };
+
+// An engine adapter described by data: what it is, what it can run, and how
+// it builds its world. Every adapter is one of these; only `build` differs.
+struct EngineDefinition {
+    std::string name;
+    std::string description;
+    EngineCapabilities capabilities;
+    std::function<std::unique_ptr<EngineWorld>(const Scenario&, const EngineOptions&,
+                                               std::vector<SimulatorSummary::Setting>&)>
+        build;
+};
+std::unique_ptr<const Simulator> make_engine_simulator(EngineDefinition definition);
 
 }  // namespace bouncecheck

@@ -281,41 +281,20 @@ private:
     b2Body* ball_ = nullptr;
 };
 
-class Box2dSimulator final : public EngineSimulator {
-public:
-    explicit Box2dSimulator(const Tuning& t) : tuning_(t) {}
-
-    std::string_view name() const override { return "box2d"; }
-    std::string_view description() const override {
-        return "Box2D 2.4.1 (2D, float): dynamic circle in four static boxes, scaled so the ball is 1 m";
-    }
-    EngineCapabilities capabilities() const override {
-        EngineCapabilities c;
-        c.runs_3d = false;
-        c.runs_2d = true;
-        c.planar_2d_in_3d = false;
-        c.per_contact_hook = true;
-        c.precision = "float";
-        return c;
-    }
-
-protected:
-    std::unique_ptr<EngineWorld> build(const Scenario& s, const EngineOptions& options,
-                                       std::vector<SimulatorSummary::Setting>& settings) const override {
-        UnitScale scale;
-        scale.length = tuning_.length_scale > 0 ? tuning_.length_scale : 1.0 / s.radius;
-        scale.time = 1.0;
-        return std::make_unique<Box2dWorld>(s, options, tuning_, scale, settings);
-    }
-
-private:
-    Tuning tuning_;
-};
-
 }  // namespace
 
 std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
-    return std::make_unique<Box2dSimulator>(tuning);
+    EngineCapabilities caps;
+    caps.runs_3d = false;
+    caps.precision = "float";
+    return make_engine_simulator(
+        {"box2d", "Box2D 2.4.1 (2D, float): dynamic circle in four static boxes, scaled so the ball is 1 m", caps,
+         [tuning](const Scenario& s, const EngineOptions& options, std::vector<SimulatorSummary::Setting>& settings)
+             -> std::unique_ptr<EngineWorld> {
+             UnitScale scale;
+             scale.length = tuning.length_scale > 0 ? tuning.length_scale : 1.0 / s.radius;
+             return std::make_unique<Box2dWorld>(s, options, tuning, scale, settings);
+         }});
 }
 
 }  // namespace box2d

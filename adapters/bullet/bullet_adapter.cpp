@@ -402,33 +402,6 @@ void BulletWorld::before_solve() {
     touching_ = now;
 }
 
-class BulletSimulator final : public EngineSimulator {
-public:
-    explicit BulletSimulator(const Tuning& tuning) : tuning_(tuning) {}
-    std::string_view name() const override { return "bullet"; }
-    std::string_view description() const override {
-        return "Bullet 3.24 (double): sphere in six static planes, sequential-impulse solver, one step of dt";
-    }
-    EngineCapabilities capabilities() const override {
-        EngineCapabilities c;
-        c.runs_3d = true;
-        c.runs_2d = true;
-        c.planar_2d_in_3d = true;
-        c.per_contact_hook = true;
-        c.precision = "double";
-        return c;
-    }
-
-protected:
-    std::unique_ptr<EngineWorld> build(const Scenario& s, const EngineOptions& options,
-                                       std::vector<SimulatorSummary::Setting>& settings) const override {
-        return build_world(s, options, tuning_, settings);
-    }
-
-private:
-    Tuning tuning_;
-};
-
 }  // namespace
 
 std::unique_ptr<World> build_world(const Scenario& s, const EngineOptions& options, const Tuning& tuning,
@@ -437,7 +410,13 @@ std::unique_ptr<World> build_world(const Scenario& s, const EngineOptions& optio
 }
 
 std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
-    return std::make_unique<BulletSimulator>(tuning);
+    EngineCapabilities caps;
+    caps.planar_2d_in_3d = true;
+    caps.precision = "double";
+    return make_engine_simulator(
+        {"bullet", "Bullet 3.24 (double): sphere in six static planes, sequential-impulse solver, one step of dt",
+         caps, [tuning](const Scenario& s, const EngineOptions& options, std::vector<SimulatorSummary::Setting>& settings)
+             -> std::unique_ptr<EngineWorld> { return build_world(s, options, tuning, settings); }});
 }
 
 }  // namespace bullet

@@ -332,33 +332,6 @@ private:
     Stats stats_;
 };
 
-class OdeSimulator final : public EngineSimulator {
-public:
-    explicit OdeSimulator(const Tuning& tuning) : tuning_(tuning) {}
-    std::string_view name() const override { return "ode"; }
-    std::string_view description() const override {
-        return "Open Dynamics Engine 0.16 (double): sphere vs static planes, contact joints with bounce, dWorldStep";
-    }
-    EngineCapabilities capabilities() const override {
-        EngineCapabilities c;
-        c.runs_3d = true;
-        c.runs_2d = true;
-        c.planar_2d_in_3d = true;  // ODE's planar joint keeps ODE's x-y plane (see the file comment)
-        c.per_contact_hook = true;
-        c.precision = "double";
-        return c;
-    }
-
-protected:
-    std::unique_ptr<EngineWorld> build(const Scenario& s, const EngineOptions& options,
-                                       std::vector<SimulatorSummary::Setting>& settings) const override {
-        return build_world(s, options, tuning_, settings);
-    }
-
-private:
-    Tuning tuning_;
-};
-
 }  // namespace
 
 std::unique_ptr<World> build_world(const Scenario& s, const EngineOptions& options, const Tuning& tuning,
@@ -367,7 +340,13 @@ std::unique_ptr<World> build_world(const Scenario& s, const EngineOptions& optio
 }
 
 std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
-    return std::make_unique<OdeSimulator>(tuning);
+    EngineCapabilities caps;
+    caps.planar_2d_in_3d = true;  // ODE's planar joint keeps ODE's x-y plane (see the file comment)
+    caps.precision = "double";
+    return make_engine_simulator(
+        {"ode", "Open Dynamics Engine 0.16 (double): sphere vs static planes, contact joints with bounce, dWorldStep",
+         caps, [tuning](const Scenario& s, const EngineOptions& options, std::vector<SimulatorSummary::Setting>& settings)
+             -> std::unique_ptr<EngineWorld> { return build_world(s, options, tuning, settings); }});
 }
 
 }  // namespace ode
