@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 
 namespace bouncecheck {
@@ -22,6 +23,38 @@ struct EngineOptions {
     TangentialModel tangential_model = TangentialModel::friction;
     double friction = 0.0;      // mu, friction model only
     bool free_rotation = true;  // false locks the ball's rotation
+};
+
+// CI limits on a simulator's divergence from the reference ([thresholds],
+// [thresholds.<simulator>]). An unset limit is not checked.
+struct ThresholdSet {
+    std::optional<int> bounce_count;          // how many bounces (apexes) to compare
+    std::optional<double> bounce_height_rel;  // largest relative apex-height divergence over them
+    std::optional<double> trajectory_rms;     // RMS centre distance over the run (m)
+    std::optional<double> trajectory_max;     // largest centre distance over the run (m)
+    std::optional<double> restitution_abs;    // largest |measured normal coefficient - alpha|
+    std::optional<double> tangential_abs;     // largest |measured tangential retention - beta|
+
+    // This set with every limit `over` sets replaced by `over`'s.
+    ThresholdSet overridden_by(const ThresholdSet& over) const {
+        ThresholdSet out = *this;
+        if (over.bounce_count) out.bounce_count = over.bounce_count;
+        if (over.bounce_height_rel) out.bounce_height_rel = over.bounce_height_rel;
+        if (over.trajectory_rms) out.trajectory_rms = over.trajectory_rms;
+        if (over.trajectory_max) out.trajectory_max = over.trajectory_max;
+        if (over.restitution_abs) out.restitution_abs = over.restitution_abs;
+        if (over.tangential_abs) out.tangential_abs = over.tangential_abs;
+        return out;
+    }
+};
+
+struct Thresholds {
+    ThresholdSet all;                               // [thresholds]
+    std::map<std::string, ThresholdSet> simulator;  // [thresholds.<simulator>], overriding `all`
+    ThresholdSet for_simulator(const std::string& name) const {
+        const auto it = simulator.find(name);
+        return it == simulator.end() ? all : all.overridden_by(it->second);
+    }
 };
 
 // Immutable once loaded (see scenarios/loader.h). Vectors hold `dim` used
@@ -47,6 +80,7 @@ struct Scenario {
 
     // [engines.<name>] tables; an engine without one runs with EngineOptions{}.
     std::map<std::string, EngineOptions> engines;
+    Thresholds thresholds;
 
     int vertical_axis() const { return dim - 1; }
     EngineOptions engine_options(const std::string& engine) const {
