@@ -28,6 +28,15 @@ struct Apex {
     double height = 0;  // vertical coordinate of the centre
 };
 
+// One wall contact with its measured damping (see compare/summary.h).
+struct ContactEvent {
+    double t = 0;
+    int axis = 0;
+    int side = -1;                    // -1 lower wall, +1 upper wall
+    double normal_coefficient = 0;    // |v_n after| / |v_n before|: alpha in the model
+    double tangential_retention = 0;  // |v_t after| / |v_t before|: beta in the model; NaN if undefined
+};
+
 // Walls a simulator reports touching in one step, one bit per axis.
 struct ContactMask {
     std::uint8_t lower = 0;

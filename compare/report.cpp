@@ -46,8 +46,14 @@ nlohmann::json result_json(const SimulatorSummary& r, int dim) {
     for (const Apex& a : r.apexes) apexes.push_back({{"t", a.t}, {"height", a.height}});
     j["apexes"] = apexes;
     nlohmann::json floor = nlohmann::json::array();
-    for (const auto& c : r.first_floor_contacts) floor.push_back({{"t", c.t}, {"restitution", c.restitution}});
+    for (const ContactEvent& c : r.contact_events) {
+        if (c.axis != dim - 1 || c.side > 0) continue;
+        if (floor.size() == kReportedApexes) break;
+        floor.push_back({{"t", c.t}, {"restitution", c.normal_coefficient}});
+    }
     j["first_floor_contacts"] = floor;
+    j["max_penetration"] = r.max_penetration;
+    j["energy_max_rise"] = r.energy_max_rise;
     j["rest_time"] = r.rest_time ? nlohmann::json(*r.rest_time) : nlohmann::json(nullptr);
     j["final_state"] = {{"t", r.final_state.t},
                         {"position", vec_json(r.final_state.p, dim)},

@@ -16,8 +16,22 @@ const char* to_string(RunStatus s) {
     return "?";
 }
 
+ContactEvent measure_contact(double t, int axis, int side, const Vec3& v_before, const Vec3& v_after, int dim) {
+    ContactEvent e{t, axis, side, 0.0, std::nan("")};
+    const double normal_in = std::abs(v_before[axis]);
+    e.normal_coefficient = normal_in > 0 ? std::abs(v_after[axis]) / normal_in : 0.0;
+    double tangential_in = 0, tangential_out = 0;
+    for (int i = 0; i < dim; ++i) {
+        if (i == axis) continue;
+        tangential_in += v_before[i] * v_before[i];
+        tangential_out += v_after[i] * v_after[i];
+    }
+    if (std::sqrt(tangential_in) > 1e-9) e.tangential_retention = std::sqrt(tangential_out / tangential_in);
+    return e;
+}
+
 StreamRecorder::StreamRecorder(const Scenario& s, StateSink* sink)
-    : sink_(sink), dim_(s.dim), vertical_(s.vertical_axis()) {
+    : sink_(sink), dim_(s.dim), vertical_(s.vertical_axis()), radius_(s.radius), room_(s.room), gravity_(s.gravity) {
     // The ball has escaped when its centre is beyond a wall's plane: it has
     // sunk into the wall by more than its radius.
     low_limit_ = Vec3::Zero();
@@ -51,35 +65,59 @@ void StreamRecorder::check(const State& s) {
 }
 
 void StreamRecorder::count_contacts(const State& s, ContactMask contact) {
-    contacts_ += std::popcount(static_cast<unsigned>(contact.lower)) +
-                 std::popcount(static_cast<unsigned>(contact.upper));
+    for (int i = 0; i < dim_; ++i) {
+        for (const int side : {-1, +1}) {
+            if (!(((side < 0 ? contact.lower : contact.upper) >> i) & 1u)) continue;
+            ++contacts_;
+            if (contact_events_.size() < kKeptContacts && states_ > 0)
+                contact_events_.push_back(measure_contact(s.t, i, side, last_.v, s.v, dim_));
+        }
+    }
     if ((contact.lower >> vertical_) & 1u) {
         ++floor_contacts_;
-        if (floor_contacts_seen_.size() < kReportedApexes && states_ > 0) {
-            const double incoming = std::abs(last_.v[vertical_]);
-            floor_contacts_seen_.push_back(
-                {s.t, incoming > 0 ? std::abs(s.v[vertical_]) / incoming : 0.0});
-        }
         // The interval since the previous floor contact closes: its highest
         // sample is an apex unless the ball never rose above the floor sample.
-        if (apex_open_ && apex_.t < s.t) push_apex(apex_);
+        if (apex_open_ && apex_.t < s.t) push_apex();
         apex_open_ = false;
     }
 }
 
-void StreamRecorder::push_apex(const Apex& a) {
-    if (apexes_.size() < kReportedApexes) apexes_.push_back(a);
+// The apex sample refined by the parabola through it and its two neighbours
+// (samples are dt apart): the vertex, if it lies within a step of the sample.
+void StreamRecorder::push_apex() {
+    Apex a = apex_;
+    const double curvature = apex_before_ - 2 * apex_.height + apex_after_;  // NaN without both neighbours
+    if (curvature < 0) {
+        const double offset = 0.5 * dt_ * (apex_before_ - apex_after_) / curvature;
+        if (std::abs(offset) <= dt_) {
+            a.t += offset;
+            a.height -= (apex_after_ - apex_before_) * (apex_after_ - apex_before_) / (8 * curvature);
+        }
+    }
+    if (apexes_.size() < kKeptApexes) apexes_.push_back(a);
     ++apex_count_;
+}
+
+void StreamRecorder::track_penetration_and_energy(const State& s) {
+    double energy = 0.5 * s.v.squaredNorm();
+    for (int i = 0; i < dim_; ++i) {
+        energy -= gravity_[i] * s.p[i];
+        max_penetration_ = std::max({max_penetration_, radius_ - s.p[i], s.p[i] - (room_[i] - radius_)});
+    }
+    if (states_ == 0) energy0_ = energy;
+    energy_max_rise_ = std::max(energy_max_rise_, energy - energy0_);
 }
 
 void StreamRecorder::finish(SimulatorSummary& out) {
     // A last interval whose highest sample is not its final one did turn over.
-    if (apex_open_ && apex_.t < last_.t) push_apex(apex_);
+    if (apex_open_ && apex_.t < last_.t) push_apex();
     out.steps = states_ > 0 ? states_ - 1 : 0;
     out.contacts = contacts_;
     out.floor_contacts = floor_contacts_;
     out.apexes = apexes_;
-    out.first_floor_contacts = floor_contacts_seen_;
+    out.contact_events = contact_events_;
+    out.max_penetration = max_penetration_;
+    out.energy_max_rise = energy_max_rise_;
     out.apex_count = apex_count_;
     out.final_state = last_;
     // A rest must last: ten steps at least, so that the last samples of a

@@ -25,16 +25,12 @@ struct SimulatorSummary {
     std::int64_t contacts = 0;        // wall contacts; a corner counts one per wall
     std::int64_t floor_contacts = 0;
     bool contacts_unbounded = false;  // exact: infinitely many Zeno contacts summed in closed form
-    std::vector<Apex> apexes;         // the first kReportedApexes apexes
-    // The first kReportedApexes floor contacts: time and measured restitution,
-    // |outgoing| / |incoming| normal speed (stepped simulators: from the
-    // samples just before and after the contact; exact: at the instant).
-    struct FloorContact {
-        double t = 0;
-        double restitution = 0;
-    };
-    std::vector<FloorContact> first_floor_contacts;
+    std::vector<Apex> apexes;         // the first kKeptApexes apexes
     std::int64_t apex_count = 0;
+    // The first kKeptContacts contacts with their measured damping.
+    std::vector<ContactEvent> contact_events;
+    double max_penetration = 0;    // deepest the ball's surface went beyond a wall (m)
+    double energy_max_rise = 0;    // largest rise of 0.5|v|^2 - g.p above its initial value (J/kg)
     // Vertical motion at rest on the floor from this time. exact: the Zeno
     // accumulation time. Stepped simulators: from the stream (see StreamRecorder).
     std::optional<double> rest_time;
@@ -50,11 +46,21 @@ struct SimulatorSummary {
     std::string trajectory_file;  // relative to the output folder, if written
 };
 
-inline constexpr std::size_t kReportedApexes = 5;
+inline constexpr std::size_t kKeptApexes = 64;
+inline constexpr std::size_t kKeptContacts = 4096;
+inline constexpr std::size_t kReportedApexes = 5;  // in the terminal summary
 
-// Consumes a simulator's state stream: counts contacts, finds apexes (the
-// highest sample between floor contacts), watches for non-finite states and
-// for a ball beyond the room's walls, and passes every state to a sink if given.
+// A contact's damping as measured: |outgoing| / |incoming| normal speed, and
+// |outgoing| / |incoming| tangential speed (NaN when the incoming tangential
+// speed is below 1e-9 m/s). Stepped simulators: from the samples just before
+// and after the contact, so one step of gravity is included; exact: at the instant.
+ContactEvent measure_contact(double t, int axis, int side, const Vec3& v_before, const Vec3& v_after, int dim);
+
+// Consumes a simulator's state stream: counts and measures contacts, finds
+// apexes (the highest sample between floor contacts, refined by the parabola
+// through it and its neighbours), tracks penetration, energy and rest, watches
+// for non-finite states and for a ball beyond the room's walls, and passes
+// every state to a sink if given.
 class StreamRecorder {
 public:
     StreamRecorder(const Scenario& s, StateSink* sink);
@@ -64,11 +70,8 @@ public:
         check(s);
         if (contact.any()) count_contacts(s, contact);
         track_rest(s);
-        const double height = s.p[vertical_];
-        if (!apex_open_ || height > apex_.height) {
-            apex_ = Apex{s.t, height};
-            apex_open_ = true;
-        }
+        track_apex(s);
+        track_penetration_and_energy(s);
         last_ = s;
         ++states_;
     }
@@ -80,7 +83,19 @@ public:
 private:
     void check(const State& s);
     void count_contacts(const State& s, ContactMask contact);
-    void push_apex(const Apex& a);
+    void push_apex();
+    void track_apex(const State& s) {
+        const double height = s.p[vertical_];
+        if (!apex_open_ || height > apex_.height) {
+            apex_ = Apex{s.t, height};
+            apex_before_ = states_ > 0 && apex_open_ ? last_.p[vertical_] : std::nan("");
+            apex_after_ = std::nan("");
+            apex_open_ = true;
+        } else if (std::isnan(apex_after_)) {
+            apex_after_ = height;
+        }
+    }
+    void track_penetration_and_energy(const State& s);
     void track_rest(const State& s) {
         const bool resting = s.p[vertical_] - floor_ <= rest_height_ && std::abs(s.v[vertical_]) <= rest_speed_;
         if (!resting) rest_since_.reset();
@@ -93,8 +108,12 @@ private:
     Vec3 low_limit_, high_limit_;  // centre positions beyond which the ball has left the room
     std::int64_t states_ = 0, contacts_ = 0, floor_contacts_ = 0, apex_count_ = 0;
     std::vector<Apex> apexes_;
-    std::vector<SimulatorSummary::FloorContact> floor_contacts_seen_;
+    std::vector<ContactEvent> contact_events_;
     Apex apex_;
+    double apex_before_ = 0, apex_after_ = 0;  // heights of the samples around the apex sample
+    double radius_;
+    Vec3 room_, gravity_;
+    double energy0_ = 0, energy_max_rise_ = 0, max_penetration_ = 0;
     bool apex_open_ = false;
     State last_;
     std::string failure_;

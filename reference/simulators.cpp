@@ -52,17 +52,16 @@ public:
         const int vertical = s.vertical_axis();
         out.contacts = static_cast<std::int64_t>(model->contacts().size());
         out.floor_contacts = 0;
-        out.first_floor_contacts.clear();
+        out.contact_events.clear();
         for (const Contact& c : model->contacts()) {
-            if (c.axis != vertical || c.side >= 0) continue;
-            ++out.floor_contacts;
-            if (out.first_floor_contacts.size() < kReportedApexes)
-                out.first_floor_contacts.push_back({c.t, std::abs(c.v_after[vertical] / c.v_before[vertical])});
+            if (c.axis == vertical && c.side < 0) ++out.floor_contacts;
+            if (out.contact_events.size() < kKeptContacts)
+                out.contact_events.push_back(measure_contact(c.t, c.axis, c.side, c.v_before, c.v_after, s.dim));
         }
         out.contacts_unbounded = model->summed_tail_contacts() != 0;
         out.apexes.clear();
         for (const auto& a : model->apexes()) {
-            if (out.apexes.size() == kReportedApexes) break;
+            if (out.apexes.size() == kKeptApexes) break;
             out.apexes.push_back(Apex{a.t, a.height});
         }
         out.apex_count = static_cast<std::int64_t>(model->apexes().size());
