@@ -15,6 +15,7 @@
 #include <array>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <map>
 #include <optional>
@@ -269,6 +270,13 @@ struct Number {
     toml::source_position where;
 };
 
+// An integer read from the file, likewise.
+struct Integer {
+    std::int64_t value;
+    std::string key;
+    toml::source_position where;
+};
+
 // Collects diagnostics while reading a parsed document. Every key it reads is
 // marked used, so whatever is left over is reported as unknown at the end.
 class Checker {
@@ -338,6 +346,18 @@ public:
         return check_number(*node, child_key(path, key));
     }
 
+    // An optional integer in `table`; a floating-point value, even a whole one such as 5.0, is reported.
+    std::optional<Integer> optional_integer(const toml::table& table, std::string_view path, std::string_view key) {
+        const toml::node* node = get(table, path, key, false);
+        if (!node) return std::nullopt;
+        const auto* i = node->as_integer();
+        if (!i) {
+            report(start_of(*node), child_key(path, key), fmt::format("expected an integer, got {}", type_name(*node)));
+            return std::nullopt;
+        }
+        return Integer{i->get(), child_key(path, key), start_of(*node)};
+    }
+
     // Marks every key of `table` as looked at, so unknown ones are reported.
     void watch_table(const toml::table& table, std::string_view path) { watch(table, path); }
 
@@ -383,11 +403,7 @@ public:
         for (const auto& [table, path] : watched_) {
             for (const auto& [key, node] : *table) {
                 if (used_.count(&node)) continue;
-                const bool reserved = path.empty() && key.str() == "thresholds";
-                report(start_of(key), child_key(path, key.str()),
-                       reserved ? fmt::format("unknown key: the [{}] table is reserved and not supported yet",
-                                              key.str())
-                                : std::string("unknown key"));
+                report(start_of(key), child_key(path, key.str()), "unknown key");
             }
         }
     }
@@ -503,6 +519,73 @@ std::map<std::string, EngineOptions> read_engines(const toml::table& root, Check
     return engines;
 }
 
+// The keys of a threshold set: bounce_count, and the limits that are numbers >= 0.
+constexpr std::string_view kBounceCountKey = "bounce_count";
+constexpr std::int64_t kMaxBounceCount = 10000;
+constexpr std::array<std::pair<std::string_view, std::optional<double> ThresholdSet::*>, 5> kThresholdLimits{{
+    {"bounce_height_rel", &ThresholdSet::bounce_height_rel},
+    {"trajectory_rms", &ThresholdSet::trajectory_rms},
+    {"trajectory_max", &ThresholdSet::trajectory_max},
+    {"restitution_abs", &ThresholdSet::restitution_abs},
+    {"tangential_abs", &ThresholdSet::tangential_abs},
+}};
+
+bool is_threshold_key(std::string_view key) {
+    return key == kBounceCountKey || std::any_of(kThresholdLimits.begin(), kThresholdLimits.end(),
+                                                 [&](const auto& limit) { return limit.first == key; });
+}
+
+// One threshold set: the table [thresholds] or [thresholds.<simulator>] at `path`.
+// Every limit is optional; one left unset is not checked.
+ThresholdSet read_threshold_set(const toml::table& table, const std::string& path, Checker& c) {
+    ThresholdSet set;
+    if (const auto count = c.optional_integer(table, path, kBounceCountKey)) {
+        if (count->value >= 1 && count->value <= kMaxBounceCount) set.bounce_count = static_cast<int>(count->value);
+        else
+            c.report(count->where, count->key,
+                     fmt::format("must be within [1, {}], got {}", kMaxBounceCount, count->value));
+    }
+    for (const auto& [key, member] : kThresholdLimits) {
+        if (const auto limit = c.optional_number(table, path, key)) {
+            c.expect(limit->value >= 0, *limit, fmt::format("must be >= 0, got {}", limit->value));
+            set.*member = limit->value;
+        }
+    }
+    return set;
+}
+
+// [thresholds] and [thresholds.<simulator>]: CI limits on each simulator's
+// divergence from the reference, a simulator's table overriding the common
+// one. Simulator names are checked against every simulator bouncecheck
+// knows, built or not, so a file validates the same on every build.
+Thresholds read_thresholds(const toml::table& root, Checker& c) {
+    static constexpr std::array<std::string_view, 5> kSimulators{"reference", "exact", "bullet", "ode", "box2d"};
+    Thresholds thresholds;
+    const toml::table* table = c.optional_table(root, "", "thresholds");
+    if (!table) return thresholds;
+    c.watch_table(*table, "thresholds");
+    thresholds.all = read_threshold_set(*table, "thresholds", c);
+    for (const auto& [key, node] : *table) {
+        const std::string name(key.str());
+        if (std::find(kSimulators.begin(), kSimulators.end(), name) == kSimulators.end()) continue;
+        const toml::table* simulator = c.optional_table(*table, "thresholds", name);  // reported if not a table
+        if (!simulator) continue;
+        const std::string path = child_key("thresholds", name);
+        c.watch_table(*simulator, path);
+        thresholds.simulator[name] = read_threshold_set(*simulator, path, c);
+    }
+    // Any other table is meant for a simulator; any other value is an unknown key, reported at the end.
+    for (const auto& [key, node] : *table) {
+        if (!node.is_table() || is_threshold_key(key.str()) ||
+            std::find(kSimulators.begin(), kSimulators.end(), key.str()) != kSimulators.end())
+            continue;
+        c.report(start_of(key), child_key("thresholds", key.str()),
+                 "unknown simulator (known: reference, exact, bullet, ode, box2d)");
+        c.get(*table, "thresholds", key.str(), false);  // reported here, not again as an unknown key
+    }
+    return thresholds;
+}
+
 Scenario validate(const toml::table& root, Checker& c) {
     const auto* name = c.string(root, "name", true);
     const auto* description = c.string(root, "description", false);
@@ -527,6 +610,7 @@ Scenario validate(const toml::table& root, Checker& c) {
     const auto dt = c.number(run, "run", "dt");
     const auto duration = c.number(run, "run", "duration");
     auto engines = read_engines(root, c);
+    auto thresholds = read_thresholds(root, c);
     c.report_unknown_keys();
 
     if (radius) c.expect(radius->value > 0, *radius, fmt::format("must be > 0, got {}", radius->value));
@@ -583,6 +667,7 @@ Scenario validate(const toml::table& root, Checker& c) {
     s.dt = dt->value;
     s.duration = duration->value;
     s.engines = std::move(engines);
+    s.thresholds = std::move(thresholds);
     return s;
 }
 

@@ -304,9 +304,138 @@ TEST(ScenarioLoaderInvalid, EngineTableValues) {
                              "expected a table"));
 }
 
-TEST(ScenarioLoaderInvalid, ThresholdsTableNotSupportedYet) {
-    const std::string text = std::string(kValid) + "[thresholds]\nposition = 1e-9\n";
-    EXPECT_TRUE(single_error(text, "thresholds", 16, 2, "not supported yet"));
+TEST(ScenarioLoaderValid, ThresholdTablesAreRead) {
+    const std::string text = std::string(kValid) +
+                             "[thresholds]\nbounce_count = 5\nbounce_height_rel = 0.05\ntrajectory_rms = 0.05\n"
+                             "trajectory_max = 0.2\nrestitution_abs = 0.02\ntangential_abs = 0.02\n"
+                             "[thresholds.bullet]\ntrajectory_rms = 0.08\nbounce_count = 3\n";
+    const Scenario s = parse_scenario(text, "thresholds.toml");
+    const ThresholdSet& all = s.thresholds.all;
+    EXPECT_EQ(all.bounce_count, 5);
+    EXPECT_EQ(all.bounce_height_rel, 0.05);
+    EXPECT_EQ(all.trajectory_rms, 0.05);
+    EXPECT_EQ(all.trajectory_max, 0.2);
+    EXPECT_EQ(all.restitution_abs, 0.02);
+    EXPECT_EQ(all.tangential_abs, 0.02);
+    ASSERT_EQ(s.thresholds.simulator.size(), 1u);
+    const ThresholdSet& bullet = s.thresholds.simulator.at("bullet");
+    EXPECT_EQ(bullet.trajectory_rms, 0.08);
+    EXPECT_EQ(bullet.bounce_count, 3);
+    EXPECT_FALSE(bullet.trajectory_max);
+    // The override wins where it sets a limit; every other limit is inherited.
+    const ThresholdSet merged = s.thresholds.for_simulator("bullet");
+    EXPECT_EQ(merged.trajectory_rms, 0.08);
+    EXPECT_EQ(merged.bounce_count, 3);
+    EXPECT_EQ(merged.bounce_height_rel, 0.05);
+    EXPECT_EQ(merged.trajectory_max, 0.2);
+    EXPECT_EQ(merged.restitution_abs, 0.02);
+    EXPECT_EQ(merged.tangential_abs, 0.02);
+    // A simulator without a table gets [thresholds] as it is.
+    EXPECT_EQ(s.thresholds.for_simulator("ode").trajectory_rms, 0.05);
+    EXPECT_EQ(s.thresholds.for_simulator("ode").bounce_count, 5);
+}
+
+TEST(ScenarioLoaderValid, ThresholdsAbsentLeaveEveryLimitUnset) {
+    const Scenario s = parse_scenario(kValid, "no-thresholds.toml");
+    EXPECT_TRUE(s.thresholds.simulator.empty());
+    for (const std::string simulator : {"reference", "exact", "bullet", "ode", "box2d"}) {
+        SCOPED_TRACE(simulator);
+        const ThresholdSet set = s.thresholds.for_simulator(simulator);
+        EXPECT_FALSE(set.bounce_count);
+        EXPECT_FALSE(set.bounce_height_rel);
+        EXPECT_FALSE(set.trajectory_rms);
+        EXPECT_FALSE(set.trajectory_max);
+        EXPECT_FALSE(set.restitution_abs);
+        EXPECT_FALSE(set.tangential_abs);
+    }
+}
+
+TEST(ScenarioLoaderValid, ThresholdOverridesAloneAndBoundaryValues) {
+    // Only per-simulator tables, every known simulator, dotted and inline spellings, integer limits, both ends of
+    // the bounce_count range and limits of 0.
+    const std::string text = std::string(kValid) +
+                             "[thresholds.reference]\nbounce_count = 1\n"
+                             "[thresholds.exact]\nbounce_count = 10000\n"
+                             "[thresholds.ode]\ntrajectory_max = 1\nrestitution_abs = 0\n"
+                             "[thresholds]\nbox2d = {}\n"
+                             "bullet.tangential_abs = 0.0\nbullet.bounce_height_rel = 0.1\n";
+    const Scenario s = parse_scenario(text, "overrides.toml");
+    EXPECT_FALSE(s.thresholds.all.bounce_count);
+    EXPECT_FALSE(s.thresholds.all.trajectory_max);
+    EXPECT_EQ(s.thresholds.simulator.size(), 5u);
+    EXPECT_EQ(s.thresholds.for_simulator("reference").bounce_count, 1);
+    EXPECT_EQ(s.thresholds.for_simulator("exact").bounce_count, 10000);
+    EXPECT_EQ(s.thresholds.for_simulator("ode").trajectory_max, 1.0);
+    EXPECT_EQ(s.thresholds.for_simulator("ode").restitution_abs, 0.0);
+    EXPECT_FALSE(s.thresholds.for_simulator("box2d").trajectory_rms);
+    EXPECT_EQ(s.thresholds.for_simulator("bullet").tangential_abs, 0.0);
+    EXPECT_EQ(s.thresholds.for_simulator("bullet").bounce_height_rel, 0.1);
+}
+
+TEST(ScenarioLoaderInvalid, ThresholdTableRejectsUnknownKeys) {
+    EXPECT_TRUE(single_error(std::string(kValid) + "[thresholds]\nposition = 1e-9\n", "thresholds.position", 17, 1,
+                             "unknown key"));
+    EXPECT_TRUE(single_error(std::string(kValid) + "[thresholds.ode]\nenabled = true\n", "thresholds.ode.enabled", 17,
+                             1, "unknown key"));
+    EXPECT_TRUE(single_error(std::string(kValid) + "[thresholds.bullet.box2d]\ntrajectory_rms = 0.1\n",
+                             "thresholds.bullet.box2d", 16, 20, "unknown key"));
+}
+
+TEST(ScenarioLoaderInvalid, ThresholdUnknownSimulator) {
+    EXPECT_TRUE(single_error(std::string(kValid) + "[thresholds.warp]\ntrajectory_rms = 0.1\n", "thresholds.warp", 16,
+                             13, "unknown simulator (known: reference, exact, bullet, ode, box2d)"));
+    EXPECT_TRUE(single_error(std::string(kValid) + "[thresholds]\nBullet = {trajectory_rms = 0.1}\n",
+                             "thresholds.Bullet", 17, 1, "unknown simulator"));
+}
+
+TEST(ScenarioLoaderInvalid, ThresholdNotATable) {
+    EXPECT_TRUE(single_error(std::string(kValid) + "[thresholds]\nbullet = 3\n", "thresholds.bullet", 17, 10,
+                             "expected a table, got an integer"));
+    EXPECT_TRUE(single_error(with("name = \"unit\"\n", "thresholds = 0.05\nname = \"unit\"\n"), "thresholds", 1, 14,
+                             "expected a table, got a floating-point number"));
+    // A limit written as a table is a type error, not a simulator's table.
+    EXPECT_TRUE(single_error(std::string(kValid) + "[thresholds.trajectory_rms]\nbullet = 0.1\n",
+                             "thresholds.trajectory_rms", 16, 1, "expected a number, got a table"));
+}
+
+TEST(ScenarioLoaderInvalid, ThresholdBounceCount) {
+    const std::string table = std::string(kValid) + "[thresholds]\n";
+    EXPECT_TRUE(single_error(table + "bounce_count = 5.0\n", "thresholds.bounce_count", 17, 16,
+                             "expected an integer, got a floating-point number"));
+    EXPECT_TRUE(single_error(table + "bounce_count = \"5\"\n", "thresholds.bounce_count", 17, 16,
+                             "expected an integer, got a string"));
+    EXPECT_TRUE(single_error(table + "bounce_count = 0\n", "thresholds.bounce_count", 17, 16,
+                             "must be within [1, 10000], got 0"));
+    EXPECT_TRUE(single_error(table + "bounce_count = 10001\n", "thresholds.bounce_count", 17, 16,
+                             "must be within [1, 10000], got 10001"));
+    EXPECT_TRUE(single_error(table + "bounce_count = -9223372036854775808\n", "thresholds.bounce_count", 17, 16,
+                             "got -9223372036854775808"));
+    EXPECT_TRUE(single_error(std::string(kValid) + "[thresholds.ode]\nbounce_count = 2.5\n",
+                             "thresholds.ode.bounce_count", 17, 16, "expected an integer"));
+}
+
+TEST(ScenarioLoaderInvalid, ThresholdLimits) {
+    const std::string table = std::string(kValid) + "[thresholds]\n";
+    EXPECT_TRUE(single_error(table + "bounce_height_rel = -0.05\n", "thresholds.bounce_height_rel", 17, 21,
+                             "must be >= 0, got -0.05"));
+    EXPECT_TRUE(single_error(table + "trajectory_rms = -1\n", "thresholds.trajectory_rms", 17, 18,
+                             "must be >= 0, got -1"));
+    EXPECT_TRUE(single_error(table + "trajectory_max = \"0.2\"\n", "thresholds.trajectory_max", 17, 18,
+                             "expected a number, got a string"));
+    EXPECT_TRUE(single_error(table + "restitution_abs = true\n", "thresholds.restitution_abs", 17, 19,
+                             "expected a number, got a boolean"));
+    EXPECT_TRUE(single_error(table + "tangential_abs = inf\n", "thresholds.tangential_abs", 17, 18,
+                             "must be a finite number"));
+    EXPECT_TRUE(single_error(std::string(kValid) + "[thresholds.box2d]\ntrajectory_rms = -0.08\n",
+                             "thresholds.box2d.trajectory_rms", 17, 18, "must be >= 0"));
+    // Every error of the tables is reported at once.
+    const auto errors = errors_of(table + "bounce_count = 5.0\ntrajectory_max = -1\n[thresholds.bullet]\n"
+                                          "trajectory_rms = -2\nspeed = 1\n");
+    EXPECT_EQ(errors.size(), 4u) << dump(errors);
+    EXPECT_TRUE(has_error(errors, "thresholds.bounce_count", 17, 16, "expected an integer"));
+    EXPECT_TRUE(has_error(errors, "thresholds.trajectory_max", 18, 18, "must be >= 0"));
+    EXPECT_TRUE(has_error(errors, "thresholds.bullet.trajectory_rms", 20, 18, "must be >= 0"));
+    EXPECT_TRUE(has_error(errors, "thresholds.bullet.speed", 21, 1, "unknown key"));
 }
 
 TEST(ScenarioLoaderInvalid, StringWhereNumberExpected) {
@@ -497,7 +626,18 @@ TEST(ScenarioLoaderInvalidFiles, ReservedTables) {
     const auto errors = load_errors_of(kInvalidDir / "reserved-tables.toml");
     ASSERT_EQ(errors.size(), 2u) << dump(errors);
     EXPECT_TRUE(has_error(errors, "engines.box2d.enabled", 24, 1, "unknown key"));
-    EXPECT_TRUE(has_error(errors, "thresholds", 26, 2, "not supported yet"));
+    EXPECT_TRUE(has_error(errors, "thresholds.bounce_count", 27, 16, "expected an integer, got a floating-point number"));
+}
+
+TEST(ScenarioLoaderInvalidFiles, Thresholds) {
+    const auto errors = load_errors_of(kInvalidDir / "thresholds.toml");
+    ASSERT_EQ(errors.size(), 6u) << dump(errors);
+    EXPECT_TRUE(has_error(errors, "thresholds.bounce_count", 25, 16, "must be within [1, 10000], got 0"));
+    EXPECT_TRUE(has_error(errors, "thresholds.trajectory_max", 26, 18, "must be >= 0, got -0.2"));
+    EXPECT_TRUE(has_error(errors, "thresholds.ode", 27, 7, "expected a table, got an integer"));
+    EXPECT_TRUE(has_error(errors, "thresholds.bullet.trajectory_rms", 30, 18, "expected a number, got a string"));
+    EXPECT_TRUE(has_error(errors, "thresholds.bullet.tolerance", 31, 1, "unknown key"));
+    EXPECT_TRUE(has_error(errors, "thresholds.havok", 33, 13, "unknown simulator"));
 }
 
 TEST(ScenarioLoaderInvalidFiles, NonFinite) {
@@ -538,7 +678,7 @@ TEST(ScenarioLoaderInvalidFiles, EveryExampleIsRejected) {
         }
         ++files;
     }
-    EXPECT_GE(files, 9);
+    EXPECT_GE(files, 10);
 }
 
 // --- Files ----------------------------------------------------------------------
