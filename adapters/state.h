@@ -22,6 +22,20 @@ public:
     virtual void write(const State& s) = 0;
 };
 
+// Passes every state to two sinks (either may be null).
+class TeeSink final : public StateSink {
+public:
+    TeeSink(StateSink* first, StateSink* second) : first_(first), second_(second) {}
+    void write(const State& s) override {
+        if (first_) first_->write(s);
+        if (second_) second_->write(s);
+    }
+
+private:
+    StateSink* first_;
+    StateSink* second_;
+};
+
 // A highest point of the vertical coordinate between floor contacts.
 struct Apex {
     double t = 0;
@@ -35,6 +49,7 @@ struct ContactEvent {
     int side = -1;                    // -1 lower wall, +1 upper wall
     double normal_coefficient = 0;    // |v_n after| / |v_n before|: alpha in the model
     double tangential_retention = 0;  // |v_t after| / |v_t before|: beta in the model; NaN if undefined
+    double normal_speed_in = 0;       // |v_n before|
 };
 
 // Walls a simulator reports touching in one step, one bit per axis.

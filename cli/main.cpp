@@ -6,6 +6,7 @@
 #include "adapters/simulator.h"
 #include "compare/calibrate.h"
 #include "compare/report.h"
+#include "compare/run.h"
 #include "compare/atomic_file.h"
 #include "compare/trajectory_csv.h"
 #include "scenarios/loader.h"
@@ -15,6 +16,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cmath>
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
@@ -23,6 +25,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 namespace fs = std::filesystem;
 using namespace bouncecheck;
@@ -75,9 +79,41 @@ struct RunOptions {
     std::string engines;
     std::string out_dir = "bouncecheck-out";
     bool trajectories = false;
+    std::vector<std::string> threshold_args;  // KEY=VALUE
+    ThresholdSet overrides;
 };
 
-int command_run(const RunOptions& opt) {
+// --threshold KEY=VALUE: a [thresholds] key and its limit, over every simulator's.
+std::optional<std::string> parse_threshold(const std::string& arg, ThresholdSet& out) {
+    const auto eq = arg.find('=');
+    if (eq == std::string::npos) return fmt::format("'{}' is not KEY=VALUE", arg);
+    const std::string key = arg.substr(0, eq), text = arg.substr(eq + 1);
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(value) || value < 0)
+        return fmt::format("'{}': the limit must be a finite number >= 0", arg);
+    if (key == "bounce_count") {
+        if (value < 1 || value > 10000 || value != std::floor(value))
+            return fmt::format("'{}': bounce_count must be an integer within [1, 10000]", arg);
+        out.bounce_count = static_cast<int>(value);
+    } else if (key == "bounce_height_rel") out.bounce_height_rel = value;
+    else if (key == "trajectory_rms") out.trajectory_rms = value;
+    else if (key == "trajectory_max") out.trajectory_max = value;
+    else if (key == "restitution_abs") out.restitution_abs = value;
+    else if (key == "tangential_abs") out.tangential_abs = value;
+    else
+        return fmt::format("'{}': unknown key (bounce_count, bounce_height_rel, trajectory_rms, trajectory_max, "
+                           "restitution_abs, tangential_abs)", key);
+    return std::nullopt;
+}
+
+int command_run(RunOptions opt) {
+    for (const auto& arg : opt.threshold_args) {
+        if (auto error = parse_threshold(arg, opt.overrides)) {
+            fmt::print(stderr, "error: --threshold {}\n", *error);
+            return kBadInput;
+        }
+    }
     std::vector<fs::path> files(opt.files.begin(), opt.files.end());
     if (files.empty()) files = bundled_scenarios();
     if (files.empty()) {
@@ -121,45 +157,23 @@ int command_run(const RunOptions& opt) {
     }
 
     RunReport report;
-    bool any_failed = false;
+    bool any_failed = false, any_exceeded = false;
     for (const Scenario& s : *scenarios) {
-        ScenarioRun run{s, {}};
-        for (const Simulator* sim : selected) {
-            SimulatorSummary result;
-            result.simulator = std::string(sim->name());
-            if (auto why = sim->cannot_run(s)) {
-                result.status = RunStatus::skipped;
-                result.reason = *why;
-                run.results.push_back(result);
-                continue;
-            }
-            try {
-                std::optional<TrajectoryCsv> csv;
-                fs::path relative;
-                if (opt.trajectories) {
-                    relative = fs::path(s.name) / (result.simulator + ".csv");
-                    fs::create_directories(out_dir / s.name);
-                    csv.emplace(out_dir / relative, s.dim);
-                }
-                result = sim->run(s, csv ? &*csv : nullptr);
-                if (csv) {
-                    csv->commit();
-                    result.trajectory_file = relative.string();
-                }
-            } catch (const std::exception& e) {
-                result.status = RunStatus::failed;
-                result.reason = fmt::format("exception: {}", e.what());
-            }
-            any_failed = any_failed || result.status == RunStatus::failed;
-            run.results.push_back(std::move(result));
+        ScenarioRun run = run_scenario(s, RunRequest{selected, out_dir, opt.trajectories, opt.overrides});
+        for (std::size_t i = 0; i < run.results.size(); ++i) {
+            any_failed = any_failed || run.results[i].status == RunStatus::failed;
+            any_exceeded = any_exceeded || (run.comparisons[i] && !run.comparisons[i]->passed());
         }
         report.scenarios.push_back(std::move(run));
     }
 
     fmt::print("{}", format_summary(report));
-    write_report_json(report, out_dir);
-    fmt::print("\nwrote {}\n", (out_dir / "report.json").string());
-    return any_failed ? kSimulatorFailed : kOk;
+    const bool colour = ::isatty(::fileno(stdout)) && !std::getenv("NO_COLOR");
+    fmt::print("{}", format_comparison(report, colour));
+    write_reports(report, out_dir);
+    fmt::print("\nwrote report.json, report.md, junit.xml and bounces.csv in {}\n", out_dir.string());
+    if (any_failed) return kSimulatorFailed;
+    return any_exceeded ? kThresholdExceeded : kOk;
 }
 
 int command_validate(const std::vector<std::string>& files) {
@@ -246,6 +260,8 @@ int main(int argc, char** argv) {
     run->add_option("--out", run_opt.out_dir, "Output folder")->capture_default_str();
     run->add_flag("--trajectories", run_opt.trajectories,
                   "Write DIR/<scenario>/<simulator>.csv with one row per step");
+    run->add_option("--threshold", run_opt.threshold_args,
+                    "KEY=VALUE: a [thresholds] limit for every simulator, over the scenario's (repeatable)");
 
     std::vector<std::string> validate_files;
     auto* validate = app.add_subcommand("validate", "Check scenario files without running them");

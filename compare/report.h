@@ -1,7 +1,9 @@
-// Reports of a `bouncecheck run`: the terminal summary and DIR/report.json.
-// The JSON schema is documented in docs/report-schema.md.
+// Reports of a `bouncecheck run`: the terminal tables, DIR/report.json,
+// DIR/report.md, DIR/junit.xml and DIR/bounces.csv. The JSON schema is
+// documented in docs/report-schema.md.
 #pragma once
 
+#include "compare/comparison.h"
 #include "compare/summary.h"
 #include "scenarios/scenario.h"
 
@@ -18,6 +20,8 @@ inline constexpr const char* kReportSchema = "bouncecheck-report/1";
 struct ScenarioRun {
     Scenario scenario;
     std::vector<SimulatorSummary> results;  // in the order the simulators ran
+    // Parallel to results: against reference and exact; empty for a skipped simulator.
+    std::vector<std::optional<Comparison>> comparisons;
 };
 
 struct RunReport {
@@ -25,8 +29,16 @@ struct RunReport {
 };
 
 nlohmann::json to_json(const RunReport& report);
-void write_report_json(const RunReport& report, const std::filesystem::path& out_dir);
-// Per scenario, one row per simulator: steps, contacts, first apex heights, run time.
+// Per scenario, one row per simulator: steps, contacts, first apex heights, rest, run time.
 std::string format_summary(const RunReport& report);
+// Per scenario, one row per simulator: divergence from the reference, error
+// against exact, measured damping, threshold verdicts, ns per step. Fits 100
+// columns; ANSI colour only when `colour` (the CLI passes isatty(stdout)).
+std::string format_comparison(const RunReport& report, bool colour);
+std::string to_markdown(const RunReport& report);   // report.md: the same tables, for a pull request
+std::string to_junit(const RunReport& report);      // junit.xml: a test case per scenario x simulator x threshold
+std::string bounces_csv(const RunReport& report);   // bounces.csv: scenario,simulator,bounce,t,apex,measured_alpha,measured_beta
+// Writes report.json, report.md, junit.xml and bounces.csv into out_dir, each atomically.
+void write_reports(const RunReport& report, const std::filesystem::path& out_dir);
 
 }  // namespace bouncecheck

@@ -17,8 +17,8 @@ const char* to_string(RunStatus s) {
 }
 
 ContactEvent measure_contact(double t, int axis, int side, const Vec3& v_before, const Vec3& v_after, int dim) {
-    ContactEvent e{t, axis, side, 0.0, std::nan("")};
-    const double normal_in = std::abs(v_before[axis]);
+    ContactEvent e{t, axis, side, 0.0, std::nan(""), std::abs(v_before[axis])};
+    const double normal_in = e.normal_speed_in;
     e.normal_coefficient = normal_in > 0 ? std::abs(v_after[axis]) / normal_in : 0.0;
     double tangential_in = 0, tangential_out = 0;
     for (int i = 0; i < dim; ++i) {
@@ -69,8 +69,12 @@ void StreamRecorder::count_contacts(const State& s, ContactMask contact) {
         for (const int side : {-1, +1}) {
             if (!(((side < 0 ? contact.lower : contact.upper) >> i) & 1u)) continue;
             ++contacts_;
-            if (contact_events_.size() < kKeptContacts && states_ > 0)
-                contact_events_.push_back(measure_contact(s.t, i, side, last_.v, s.v, dim_));
+            if (contact_events_.size() < kKeptContacts && states_ > 0) {
+                // The velocity that meets the wall: a step of gravity after
+                // the last sample, as in the document's step (and Box2D's).
+                const Vec3 incoming = last_.v + gravity_ * (s.t - last_.t);
+                contact_events_.push_back(measure_contact(s.t, i, side, incoming, s.v, dim_));
+            }
         }
     }
     if ((contact.lower >> vertical_) & 1u) {

@@ -52,8 +52,12 @@ inline constexpr std::size_t kReportedApexes = 5;  // in the terminal summary
 
 // A contact's damping as measured: |outgoing| / |incoming| normal speed, and
 // |outgoing| / |incoming| tangential speed (NaN when the incoming tangential
-// speed is below 1e-9 m/s). Stepped simulators: from the samples just before
-// and after the contact, so one step of gravity is included; exact: at the instant.
+// speed is below 1e-9 m/s). Stepped simulators: the incoming velocity is the
+// sample before the contact plus one step of gravity (what meets the wall in
+// a step that applies gravity first, as the document's does), the outgoing
+// one the sample after; the reference then measures alpha and beta exactly.
+// An engine that bounces the pre-gravity velocity measures alpha (1 - |g| dt / v).
+// exact: at the instant.
 ContactEvent measure_contact(double t, int axis, int side, const Vec3& v_before, const Vec3& v_after, int dim);
 
 // Consumes a simulator's state stream: counts and measures contacts, finds
