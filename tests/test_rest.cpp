@@ -66,3 +66,39 @@ TEST(EngineRest, EveryEngineRestsWhenExactDoes) {
 
 }  // namespace
 }  // namespace bouncecheck
+
+namespace bouncecheck {
+namespace {
+
+// Apexes from a sampled parabola: the parabola through the highest sample and
+// its neighbours is the flight itself, so the refined apex is exact.
+TEST(StreamRecorderApex, RefinedApexOfASampledFlightIsExact) {
+    Scenario s = load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/seed-3d.toml");
+    const double g = 0.0981, v0 = 0.3, z0 = 0.2, dt = s.dt;  // apex at t = v0/g = 3.058 s, between samples
+    StreamRecorder recorder(s, nullptr);
+    State st;
+    int n = 0;
+    for (; n * dt <= 2 * v0 / g; ++n) {
+        const double t = n * dt;
+        st.t = t;
+        st.p = {0.5, 0.5, z0 + v0 * t - 0.5 * g * t * t};
+        st.v = {0.0, 0.0, v0 - g * t};
+        recorder.on_state(st, {});
+    }
+    // A floor contact closes the flight.
+    st.t = n * dt;
+    st.p = {0.5, 0.5, 0.05};
+    st.v = {0.0, 0.0, 0.2};
+    recorder.on_state(st, ContactMask{0b100, 0});
+    SimulatorSummary out;
+    recorder.finish(out);
+    ASSERT_GE(out.apexes.size(), 1u);
+    EXPECT_NEAR(out.apexes[0].height, z0 + v0 * v0 / (2 * g), 1e-12);
+    EXPECT_NEAR(out.apexes[0].t, v0 / g, 1e-9);
+    ASSERT_EQ(out.contact_events.size(), 1u);
+    EXPECT_EQ(out.contact_events[0].axis, 2);
+    EXPECT_EQ(out.contact_events[0].side, -1);
+}
+
+}  // namespace
+}  // namespace bouncecheck
