@@ -123,6 +123,7 @@ public:
         two_r_ = 2 * r;
         alpha_ = s.alpha;
         tangential_factor_ = (s.alpha + s.beta) - s.alpha;
+        careful_ = needs_care();
     }
 
     bool running() const { return clock_.running(); }
@@ -131,7 +132,7 @@ public:
     ContactMask step() {
         // Subnormal velocities only appear late in the Zeno regime; until then
         // the plain hardware step is the exact one and needs no checks.
-        return has_subnormal_velocity() ? step_impl<true>() : step_impl<false>();
+        return careful_ ? step_impl<true>() : step_impl<false>();
     }
 
     // The state in the scenario's terms: centre, velocity, time.
@@ -167,15 +168,25 @@ private:
             if (!lower_in_bounds(q_[i])) contact.lower |= 1u << i;
             if (!upper_in_bounds(q_[i], i)) contact.upper |= 1u << i;
         }
-        if (contact.lower) apply_damping<Careful>(contact.lower);
-        if (contact.upper) apply_damping<Careful>(contact.upper);
+        if (contact.any()) {
+            if (contact.lower) apply_damping<Careful>(contact.lower);
+            if (contact.upper) apply_damping<Careful>(contact.upper);
+            careful_ = needs_care();
+        }
         clock_.advance();
         return contact;
     }
 
-    bool has_subnormal_velocity() const {
-        bool any = false;
-        for (int i = 0; i < D; ++i) any |= detail::is_subnormal(v_[i]);
+    // Whether a product or sum of this step could touch a subnormal. Only the
+    // damping multiplications bring a velocity near that range (gravity adds
+    // a normal increment), so this is re-evaluated after them only. Tiny means
+    // below 2^-900: with |dt| and |g dt| at least 2^-100 and 2^-800 (else
+    // always careful), no product or sum of normal operands above that is
+    // subnormal.
+    bool needs_care() const {
+        auto tiny = [](double x, double below) { return x != 0.0 && std::abs(x) < below; };
+        bool any = tiny(dt_, 0x1p-100);
+        for (int i = 0; i < D; ++i) any |= tiny(v_[i], 0x1p-900) || tiny(gdt_[i], 0x1p-800);
         return any;
     }
 
@@ -199,6 +210,7 @@ private:
     DocumentClock clock_;
     std::array<double, D> q_{}, v_{}, gdt_{}, size_{}, upper_clamp_{};
     double dt_ = 0, r_ = 0, two_r_ = 0, alpha_ = 0, tangential_factor_ = 0;
+    bool careful_ = false;  // take the subnormal-safe path (see needs_care)
 };
 
 }  // namespace bouncecheck
