@@ -1,4 +1,4 @@
-// The `bouncecheck` command: run, validate, list.
+// The `bouncecheck` command: run, validate, list, calibrate, sweep.
 //
 // Exit status (a contract, see README): 0 ran and every threshold held;
 // 1 a threshold was exceeded; 2 bad input or usage, nothing run;
@@ -7,6 +7,7 @@
 #include "compare/calibrate.h"
 #include "compare/report.h"
 #include "compare/run.h"
+#include "compare/sweep.h"
 #include "compare/atomic_file.h"
 #include "compare/trajectory_csv.h"
 #include "scenarios/loader.h"
@@ -15,6 +16,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cmath>
 #include <cstdlib>
@@ -231,6 +233,113 @@ int command_calibrate(const CalibrateOptions& opt) {
     return kOk;
 }
 
+struct SweepOptions {
+    std::string file;
+    std::string engines;
+    std::string dt;
+    int repeat = 3;
+    int jobs = 0;  // 0: every core
+    std::string out_dir = "bouncecheck-out";
+};
+
+int command_sweep(const SweepOptions& opt) {
+    auto scenarios = load_all({opt.file});
+    if (!scenarios) return kBadInput;
+    const Scenario& s = scenarios->front();
+
+    std::vector<double> dts;
+    if (opt.dt.empty()) {
+        dts = default_sweep_dts(s.dt);
+    } else {
+        DtParse parsed = parse_dt_list(opt.dt);
+        if (!parsed.error.empty()) {
+            fmt::print(stderr, "error: --dt {}\n", parsed.error);
+            return kBadInput;
+        }
+        dts = std::move(parsed.dts);
+    }
+    for (double dt : dts) {
+        if (dt > s.duration) {
+            fmt::print(stderr, "error: --dt {}: larger than the scenario's duration {}\n", dt, s.duration);
+            return kBadInput;
+        }
+        if (s.duration / dt > 1e10) {
+            fmt::print(stderr, "error: --dt {}: more than 1e10 steps over {} s\n", dt, s.duration);
+            return kBadInput;
+        }
+    }
+
+    // exact is the truth every error is measured against: never swept.
+    auto all = built_simulators();
+    std::vector<const Simulator*> selected;
+    if (opt.engines.empty()) {
+        for (const auto& sim : all)
+            if (sim->name() != "exact") selected.push_back(sim.get());
+    } else {
+        for (const auto& wanted : split_list(opt.engines)) {
+            auto it = std::find_if(all.begin(), all.end(), [&](const auto& sim) { return sim->name() == wanted; });
+            if (it == all.end() || wanted == "exact") {
+                std::string known;
+                for (const auto& sim : all)
+                    if (sim->name() != "exact") known += fmt::format("{}{}", known.empty() ? "" : ", ", sim->name());
+                fmt::print(stderr, "error: --engines: {} (sweepable: {})\n",
+                           wanted == "exact" ? std::string("exact is the truth the sweep measures against")
+                                             : fmt::format("unknown simulator '{}'", wanted),
+                           known);
+                return kBadInput;
+            }
+            if (std::find(selected.begin(), selected.end(), it->get()) == selected.end())
+                selected.push_back(it->get());
+        }
+    }
+    if (selected.empty()) {
+        fmt::print(stderr, "error: --engines: no simulator selected\n");
+        return kBadInput;
+    }
+
+    const fs::path out_dir = opt.out_dir;
+    try {
+        fs::create_directories(out_dir);
+    } catch (const std::exception& e) {
+        fmt::print(stderr, "error: --out: cannot create {}: {}\n", out_dir.string(), e.what());
+        return kBadInput;
+    }
+
+    SweepRequest request;
+    request.simulators = selected;
+    request.dts = dts;
+    request.repeat = opt.repeat;
+    request.jobs = opt.jobs;
+    request.on_progress = [](const SweepRow& row, std::size_t done, std::size_t total) {
+        if (row.status == RunStatus::ok)
+            fmt::print(stderr, "[{}/{}] {} dt={:.6g}: error {:.4e} m, {:.1f} ns/step\n", done, total, row.engine, row.dt,
+                       *row.error, row.ns_per_step.value_or(0.0));
+        else
+            fmt::print(stderr, "[{}/{}] {} dt={:.6g}: {}: {}\n", done, total, row.engine, row.dt,
+                       to_string(row.status), row.reason);
+    };
+    const auto wall_start = std::chrono::steady_clock::now();
+    const SweepResult result = run_sweep(s, request);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+
+    nlohmann::json engines = nlohmann::json::array();
+    for (const Simulator* sim : selected) engines.push_back(std::string(sim->name()));
+    const nlohmann::json parameters{{"scenario_file", opt.file},
+                                    {"engines", engines},
+                                    {"dt", dts},
+                                    {"dt_source", opt.dt.empty() ? "default" : "--dt"},
+                                    {"dt_argument", opt.dt},
+                                    {"repeat", opt.repeat},
+                                    {"jobs", opt.jobs > 0 ? opt.jobs : 0},
+                                    {"out", out_dir.string()}};
+    fmt::print("{}", format_sweep(s, result));
+    write_sweep(s, result, parameters, out_dir);
+    fmt::print("\nwrote sweep.csv and sweep.json in {} ({:.2f} s)\n", out_dir.string(), wall);
+    const bool any_failed = std::any_of(result.rows.begin(), result.rows.end(),
+                                        [](const SweepRow& r) { return r.status == RunStatus::failed; });
+    return any_failed ? kSimulatorFailed : kOk;
+}
+
 int command_list() {
     fmt::print("bundled scenarios ({}):\n", bundled_scenario_dir().string());
     for (const auto& f : bundled_scenarios()) {
@@ -279,6 +388,22 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1e-3, 10.0));
     calibrate->add_flag("--write", calibrate_opt.write, "Write the value into the file's [engines.<engine>] table");
 
+    SweepOptions sweep_opt;
+    auto* sweep = app.add_subcommand(
+        "sweep", "Work-precision sweep: each simulator's error against exact and cost per step over a series of dt");
+    sweep->add_option("scenario", sweep_opt.file, "Scenario file")->required();
+    sweep->add_option("--engines", sweep_opt.engines,
+                      "Comma-separated simulators (default: every one built but exact, the truth)");
+    sweep->add_option("--dt", sweep_opt.dt,
+                      "Time steps: a list 0.03,0.015,... or FROM:TO:FACTOR (FROM, FROM/FACTOR, ... while >= TO). "
+                      "Default: the scenario's dt halved down to max(1e-5, dt/2^7), capped to keep a run quick");
+    sweep->add_option("--repeat", sweep_opt.repeat, "Timed runs per (simulator, dt); the fastest is kept")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 1000));
+    sweep->add_option("--jobs", sweep_opt.jobs, "(simulator, dt) pairs run at once (default: every core)")
+        ->check(CLI::Range(1, 4096));
+    sweep->add_option("--out", sweep_opt.out_dir, "Output folder for sweep.csv and sweep.json")->capture_default_str();
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -297,6 +422,7 @@ int main(int argc, char** argv) {
         if (*validate) return command_validate(validate_files);
         if (*list) return command_list();
         if (*calibrate) return command_calibrate(calibrate_opt);
+        if (*sweep) return command_sweep(sweep_opt);
     } catch (const std::exception& e) {
         fmt::print(stderr, "error: {}\n", e.what());
         return kSimulatorFailed;

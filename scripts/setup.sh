@@ -10,7 +10,7 @@ BUILD_DIR="${BUILD_DIR:-$ROOT/build}"
 # Everything the build needs, from Debian 12's own packages.
 PACKAGES=(
   build-essential cmake pkg-config
-  libeigen3-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libfmt-dev
+  libeigen3-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libfmt-dev libtbb-dev
   libgtest-dev libbenchmark-dev
   libbullet-dev libode-dev libbox2d-dev
 )

@@ -1,0 +1,317 @@
+#include "compare/sweep.h"
+
+#include "compare/atomic_file.h"
+#include "compare/run.h"
+
+#include <fmt/format.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <exception>
+#include <limits>
+#include <mutex>
+#include <string>
+#include <type_traits>
+#include <utility>
+
+namespace bouncecheck {
+
+std::vector<double> default_sweep_dts(double dt) {
+    const double floor = std::max(kSweepMinDt, std::ldexp(dt, -kSweepMaxHalvings));
+    std::vector<double> dts{dt};
+    for (double next = dt / 2; next >= floor && dts.size() < kSweepMaxDts; next /= 2) dts.push_back(next);
+    return dts;
+}
+
+namespace {
+
+// A whole string as a finite double, or nothing.
+std::optional<double> parse_number(std::string_view text) {
+    const std::string s(text);
+    if (s.empty() || std::isspace(static_cast<unsigned char>(s.front()))) return std::nullopt;
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(s.c_str(), &end);
+    if (end != s.c_str() + s.size() || errno == ERANGE || !std::isfinite(v)) return std::nullopt;
+    return v;
+}
+
+}  // namespace
+
+DtParse parse_dt_list(std::string_view text) {
+    DtParse out;
+    auto fail = [&](std::string message) {
+        out.dts.clear();
+        out.error = std::move(message);
+        return out;
+    };
+    if (text.empty()) return fail("empty; expected a list 0.03,0.015,... or FROM:TO:FACTOR");
+    if (text.find(':') != std::string_view::npos) {
+        std::vector<std::string_view> parts;
+        for (std::size_t start = 0;;) {
+            const auto colon = text.find(':', start);
+            parts.push_back(text.substr(start, colon == std::string_view::npos ? colon : colon - start));
+            if (colon == std::string_view::npos) break;
+            start = colon + 1;
+        }
+        if (parts.size() != 3) return fail(fmt::format("'{}': expected FROM:TO:FACTOR", text));
+        const auto from = parse_number(parts[0]), to = parse_number(parts[1]), factor = parse_number(parts[2]);
+        if (!from || !to || !factor) return fail(fmt::format("'{}': FROM, TO and FACTOR must be finite numbers", text));
+        if (*to <= 0) return fail(fmt::format("'{}': TO must be > 0", text));
+        if (*from < *to) return fail(fmt::format("'{}': FROM must be >= TO", text));
+        if (*factor <= 1) return fail(fmt::format("'{}': FACTOR must be > 1", text));
+        const double last = *to * (1 - 1e-9);  // slack for the rounding of repeated division
+        for (double dt = *from; dt >= last; dt /= *factor) {
+            if (out.dts.size() == kSweepMaxDts)
+                return fail(fmt::format("'{}': more than {} time steps", text, kSweepMaxDts));
+            out.dts.push_back(dt);
+        }
+        return out;
+    }
+    for (std::size_t start = 0;;) {
+        const auto comma = text.find(',', start);
+        const auto item = text.substr(start, comma == std::string_view::npos ? comma : comma - start);
+        const auto dt = parse_number(item);
+        if (!dt) return fail(fmt::format("'{}' is not a number", item));
+        if (*dt <= 0) return fail(fmt::format("'{}': a time step must be > 0", item));
+        if (out.dts.size() == kSweepMaxDts) return fail(fmt::format("more than {} time steps", kSweepMaxDts));
+        out.dts.push_back(*dt);
+        if (comma == std::string_view::npos) break;
+        start = comma + 1;
+    }
+    return out;
+}
+
+std::optional<std::string_view> serial_engine_reason(std::string_view engine) {
+    // Debian's libode 0.16 is built without ODE_EXT_ou (no thread-local
+    // collision data): dAllocateODEDataForThread does not make its global
+    // state per thread, so two ODE worlds must not step at the same time.
+    if (engine == "ode") return "libode is built without ODE_EXT_ou: its global state is shared between threads";
+    // Box2D 2.4 counts GJK and TOI calls in unsynchronised globals.
+    if (engine == "box2d") return "Box2D 2.4 updates global statistics counters (b2_gjkCalls, b2_toiCalls)";
+    return std::nullopt;
+}
+
+namespace {
+
+SweepRow failed_row(const std::string& engine, double dt, std::string reason) {
+    SweepRow row;
+    row.engine = engine;
+    row.dt = dt;
+    row.status = RunStatus::failed;
+    row.reason = std::move(reason);
+    return row;
+}
+
+SweepRow run_pair(const Scenario& base, const Simulator& sim, double dt, int repeat) {
+    SweepRow row;
+    row.engine = std::string(sim.name());
+    row.dt = dt;
+    Scenario s = base;
+    s.dt = dt;
+    try {
+        if (auto why = sim.cannot_run(s)) {
+            row.status = RunStatus::skipped;
+            row.reason = *why;
+            return row;
+        }
+        const ScenarioRun run = run_scenario(s, RunRequest{{&sim}, {}, false, {}});
+        const SimulatorSummary& result = run.results.front();
+        row.status = result.status;
+        row.reason = result.reason;
+        if (result.status != RunStatus::ok) {
+            if (result.steps > 0) row.steps = result.steps;
+            return row;
+        }
+        const Comparison& c = *run.comparisons.front();
+        row.error = c.vs_exact.trajectory.rms_before_rest;
+        row.bounce_error = c.vs_exact.bounce_height_rel_max;
+        row.steps = result.steps;
+
+        double best = std::numeric_limits<double>::infinity();
+        for (int i = 0; i < repeat; ++i) {
+            const SimulatorSummary timed = sim.run(s, nullptr);
+            if (timed.status != RunStatus::ok) {
+                row.status = timed.status;
+                row.reason = fmt::format("timed run {}: {}", i + 1, timed.reason);
+                row.error.reset();
+                row.bounce_error.reset();
+                return row;
+            }
+            best = std::min(best, timed.run_seconds);
+        }
+        row.min_seconds = best;
+        if (result.steps > 0) row.ns_per_step = best * 1e9 / static_cast<double>(result.steps);
+        row.sec_per_sim_sec = best / s.duration;
+    } catch (const std::exception& e) {
+        return failed_row(row.engine, dt, fmt::format("exception: {}", e.what()));
+    } catch (...) {
+        return failed_row(row.engine, dt, "unknown exception");
+    }
+    return row;
+}
+
+}  // namespace
+
+SweepOrder fit_order(const std::vector<SweepRow>& rows, const std::string& engine) {
+    SweepOrder o;
+    o.engine = engine;
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (const SweepRow& r : rows) {
+        if (r.engine != engine || r.status != RunStatus::ok || !r.error || !(*r.error > 0)) continue;
+        const double x = std::log(r.dt), y = std::log(*r.error);
+        sx += x;
+        sy += y;
+        sxx += x * x;
+        sxy += x * y;
+        ++o.points;
+    }
+    if (o.points >= 2) {
+        const double n = o.points;
+        const double denominator = n * sxx - sx * sx;
+        if (denominator > 0) o.order = (n * sxy - sx * sy) / denominator;
+    }
+    return o;
+}
+
+SweepResult run_sweep(const Scenario& s, const SweepRequest& request) {
+    const std::size_t n_dt = request.dts.size();
+    const std::size_t total = request.simulators.size() * n_dt;
+    SweepResult result;
+    result.rows.resize(total);
+
+    // Tasks: one per pair, except that an engine with shared state runs all
+    // its pairs in one task, one after another. Costliest first (smallest dt).
+    std::vector<std::vector<std::size_t>> tasks;
+    std::vector<std::size_t> parallel_pairs;
+    for (std::size_t e = 0; e < request.simulators.size(); ++e) {
+        if (serial_engine_reason(request.simulators[e]->name())) {
+            std::vector<std::size_t> group;
+            for (std::size_t d = 0; d < n_dt; ++d) group.push_back(e * n_dt + d);
+            tasks.push_back(std::move(group));
+        } else {
+            for (std::size_t d = 0; d < n_dt; ++d) parallel_pairs.push_back(e * n_dt + d);
+        }
+    }
+    std::stable_sort(parallel_pairs.begin(), parallel_pairs.end(), [&](std::size_t a, std::size_t b) {
+        return request.dts[a % n_dt] < request.dts[b % n_dt];
+    });
+    for (std::size_t pair : parallel_pairs) tasks.push_back({pair});
+
+    std::mutex progress_mutex;
+    std::size_t done = 0;
+    const int repeat = std::max(1, request.repeat);
+    auto run_task = [&](std::size_t t) {
+        for (std::size_t pair : tasks[t]) {
+            const Simulator& sim = *request.simulators[pair / n_dt];
+            result.rows[pair] = run_pair(s, sim, request.dts[pair % n_dt], repeat);
+            std::lock_guard lock(progress_mutex);
+            ++done;
+            if (request.on_progress) request.on_progress(result.rows[pair], done, total);
+        }
+    };
+    const int jobs = request.jobs > 0 ? request.jobs : tbb::info::default_concurrency();
+    tbb::task_arena arena(jobs);
+    arena.execute([&] { tbb::parallel_for(std::size_t{0}, tasks.size(), run_task); });
+
+    for (const Simulator* sim : request.simulators) result.orders.push_back(fit_order(result.rows, std::string(sim->name())));
+    return result;
+}
+
+namespace {
+
+template <class T>
+std::string csv_number(const std::optional<T>& v) {
+    if (!v) return "";
+    if constexpr (std::is_integral_v<T>) return fmt::format("{}", *v);
+    else return fmt::format("{:.17g}", *v);
+}
+
+template <class T>
+nlohmann::json json_number(const std::optional<T>& v) {
+    return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+
+std::string table_number(const std::optional<double>& v, const char* spec) {
+    return v ? fmt::format(fmt::runtime(spec), *v) : std::string("-");
+}
+
+}  // namespace
+
+std::string sweep_csv(const SweepResult& r) {
+    std::string out = "engine,dt,status,error,bounce_error,ns_per_step,sec_per_sim_sec,steps\n";
+    for (const SweepRow& row : r.rows)
+        out += fmt::format("{},{:.17g},{},{},{},{},{},{}\n", row.engine, row.dt, to_string(row.status),
+                           csv_number(row.error), csv_number(row.bounce_error), csv_number(row.ns_per_step),
+                           csv_number(row.sec_per_sim_sec), csv_number(row.steps));
+    return out;
+}
+
+nlohmann::json sweep_json(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (const SweepRow& row : r.rows) {
+        nlohmann::json j{{"engine", row.engine},
+                         {"dt", row.dt},
+                         {"status", to_string(row.status)},
+                         {"error", json_number(row.error)},
+                         {"bounce_error", json_number(row.bounce_error)},
+                         {"ns_per_step", json_number(row.ns_per_step)},
+                         {"sec_per_sim_sec", json_number(row.sec_per_sim_sec)},
+                         {"steps", json_number(row.steps)},
+                         {"min_seconds", json_number(row.min_seconds)}};
+        if (!row.reason.empty()) j["reason"] = row.reason;
+        rows.push_back(std::move(j));
+    }
+    nlohmann::json orders = nlohmann::json::array();
+    for (const SweepOrder& o : r.orders)
+        orders.push_back({{"engine", o.engine}, {"order", json_number(o.order)}, {"points", o.points}});
+    return {{"schema", kSweepSchema},
+            {"version", BOUNCECHECK_VERSION},
+            {"scenario", s.name},
+            {"dim", s.dim},
+            {"duration", s.duration},
+            {"error_metric", "trajectory RMS against exact before exact's rest (m)"},
+            {"bounce_error_metric", "largest relative bounce height difference against exact"},
+            {"parameters", parameters},
+            {"rows", std::move(rows)},
+            {"orders", std::move(orders)}};
+}
+
+std::string format_sweep(const Scenario& s, const SweepResult& r) {
+    std::string out = fmt::format(
+        "\n{}: work-precision sweep (error: trajectory RMS against exact before its rest; "
+        "timing: fastest of the timed runs)\n",
+        s.name);
+    out += fmt::format("  {:<10} {:>11} {:>11} {:>11} {:>10}  {}\n", "engine", "dt", "error (m)", "bounce err",
+                       "ns/step", "status");
+    for (const SweepOrder& o : r.orders) {
+        for (const SweepRow& row : r.rows) {
+            if (row.engine != o.engine) continue;
+            std::string status = to_string(row.status);
+            if (!row.reason.empty()) status += ": " + row.reason;
+            out += fmt::format("  {:<10} {:>11.6g} {:>11} {:>11} {:>10}  {}\n", row.engine, row.dt,
+                               table_number(row.error, "{:.4e}"), table_number(row.bounce_error, "{:.4e}"),
+                               table_number(row.ns_per_step, "{:.1f}"), status);
+        }
+        if (o.order)
+            out += fmt::format("  {:<10} observed order {:.3f} (least squares over {} points)\n", o.engine, *o.order,
+                               o.points);
+        else
+            out += fmt::format("  {:<10} observed order: not enough points ({} with error > 0)\n", o.engine, o.points);
+    }
+    return out;
+}
+
+void write_sweep(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters,
+                 const std::filesystem::path& out_dir) {
+    write_file_atomically(out_dir / "sweep.csv", sweep_csv(r));
+    write_file_atomically(out_dir / "sweep.json", sweep_json(s, r, parameters).dump(2) + "\n");
+}
+
+}  // namespace bouncecheck

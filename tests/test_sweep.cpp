@@ -1,0 +1,277 @@
+// The work-precision sweep: --dt parsing, the reference's observed order,
+// independence of --jobs, skipped and failed pairs, and the command end to end.
+#include "adapters/simulator.h"
+#include "compare/sweep.h"
+#include "scenarios/loader.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+using namespace bouncecheck;
+
+namespace {
+
+const std::string kScenarios = BOUNCECHECK_SCENARIO_DIR;
+
+const Simulator* find_simulator(const std::vector<std::unique_ptr<const Simulator>>& all, std::string_view name) {
+    for (const auto& sim : all)
+        if (sim->name() == name) return sim.get();
+    return nullptr;
+}
+
+TEST(SweepDtList, CommaList) {
+    const DtParse p = parse_dt_list("0.03,0.015,1e-3");
+    ASSERT_TRUE(p.error.empty()) << p.error;
+    EXPECT_EQ(p.dts, (std::vector<double>{0.03, 0.015, 1e-3}));
+    const DtParse one = parse_dt_list("0.01");
+    ASSERT_TRUE(one.error.empty());
+    EXPECT_EQ(one.dts, std::vector<double>{0.01});
+}
+
+TEST(SweepDtList, FromToFactor) {
+    const DtParse p = parse_dt_list("0.03:0.0075:2");
+    ASSERT_TRUE(p.error.empty()) << p.error;
+    EXPECT_EQ(p.dts, (std::vector<double>{0.03, 0.015, 0.0075}));
+    // Repeated division by 10 rounds; TO itself is still included.
+    const DtParse tens = parse_dt_list("0.1:0.001:10");
+    ASSERT_TRUE(tens.error.empty()) << tens.error;
+    ASSERT_EQ(tens.dts.size(), 3u);
+    EXPECT_NEAR(tens.dts.back(), 0.001, 1e-15);
+    // TO between two steps: stops above it.
+    const DtParse between = parse_dt_list("0.03:0.01:2");
+    EXPECT_EQ(between.dts, (std::vector<double>{0.03, 0.015}));
+}
+
+TEST(SweepDtList, Errors) {
+    for (const char* bad : {"", "0.03,", "0.03,,0.01", "abc", "0.03,-0.01", "0", "0.03,0", "nan", "inf", "1e999",
+                            "0.03:0.01", "0.03:0.01:2:2", "0.03:0:2", "0.01:0.03:2", "0.03:0.01:1",
+                            "0.03:0.01:0.5", "0.03:x:2", "1:1e-300:1.0000001"}) {
+        const DtParse p = parse_dt_list(bad);
+        EXPECT_FALSE(p.error.empty()) << "'" << bad << "' was accepted";
+        EXPECT_TRUE(p.dts.empty()) << bad;
+    }
+}
+
+TEST(SweepDtList, DefaultIsCapped) {
+    const auto dts = default_sweep_dts(0.03);
+    ASSERT_EQ(dts.size(), 8u);  // 0.03 .. 0.03/2^7
+    EXPECT_EQ(dts.front(), 0.03);
+    EXPECT_EQ(dts.back(), 0.03 / 128);
+    // Small dt: stops at 1e-5.
+    const auto small = default_sweep_dts(1e-4);
+    EXPECT_EQ(small.size(), 4u);  // 1e-4, 5e-5, 2.5e-5, 1.25e-5
+    EXPECT_GE(small.back(), 1e-5);
+    EXPECT_EQ(default_sweep_dts(1e-6), std::vector<double>{1e-6});
+}
+
+TEST(SweepOrder, ReferenceConvergesAtFirstOrder) {
+    const Scenario s = load_scenario(kScenarios + "/seed-3d.toml");
+    auto all = built_simulators();
+    SweepRequest request;
+    request.simulators = {find_simulator(all, "reference")};
+    request.dts = parse_dt_list("0.03:0.0009375:2").dts;  // 0.03 .. 0.03/32
+    ASSERT_EQ(request.dts.size(), 6u);
+    request.repeat = 1;
+    const SweepResult r = run_sweep(s, request);
+    ASSERT_EQ(r.rows.size(), 6u);
+    for (const SweepRow& row : r.rows) {
+        EXPECT_EQ(row.status, RunStatus::ok) << row.reason;
+        ASSERT_TRUE(row.error && row.ns_per_step && row.sec_per_sim_sec && row.steps);
+        EXPECT_GT(*row.error, 0);
+    }
+    EXPECT_LT(*r.rows.back().error, *r.rows.front().error);
+    ASSERT_EQ(r.orders.size(), 1u);
+    ASSERT_TRUE(r.orders[0].order);
+    EXPECT_EQ(r.orders[0].points, 6);
+    EXPECT_NEAR(*r.orders[0].order, 1.0, 0.2);
+}
+
+TEST(SweepOrder, FitsAKnownSlope) {
+    std::vector<SweepRow> rows;
+    for (double dt : {0.1, 0.05, 0.025}) {
+        SweepRow row;
+        row.engine = "x";
+        row.dt = dt;
+        row.error = 3 * dt * dt;
+        rows.push_back(row);
+    }
+    rows[0].engine = "x";
+    SweepRow failed;
+    failed.engine = "x";
+    failed.dt = 0.01;
+    failed.status = RunStatus::failed;
+    rows.push_back(failed);
+    const SweepOrder o = fit_order(rows, "x");
+    EXPECT_EQ(o.points, 3);
+    ASSERT_TRUE(o.order);
+    EXPECT_NEAR(*o.order, 2.0, 1e-12);
+    EXPECT_FALSE(fit_order(rows, "y").order);
+}
+
+TEST(SweepParallel, ResultsDoNotDependOnJobs) {
+    const Scenario s = load_scenario(kScenarios + "/seed-2d.toml");
+    auto all = built_simulators();
+    SweepRequest request;
+    for (const char* name : {"reference", "bullet", "ode", "box2d"})
+        if (const Simulator* sim = find_simulator(all, name)) request.simulators.push_back(sim);
+    request.dts = {0.03, 0.015, 0.0075};
+    request.repeat = 1;
+    request.jobs = 1;
+    const SweepResult one = run_sweep(s, request);
+    request.jobs = 2;
+    const SweepResult two = run_sweep(s, request);
+    ASSERT_EQ(one.rows.size(), request.simulators.size() * 3);
+    ASSERT_EQ(one.rows.size(), two.rows.size());
+    for (std::size_t i = 0; i < one.rows.size(); ++i) {
+        const SweepRow &a = one.rows[i], &b = two.rows[i];
+        EXPECT_EQ(a.engine, b.engine);
+        EXPECT_EQ(a.dt, b.dt);
+        EXPECT_EQ(a.status, b.status) << a.engine << " " << a.dt;
+        EXPECT_EQ(a.error, b.error) << a.engine << " " << a.dt;
+        EXPECT_EQ(a.bounce_error, b.bounce_error) << a.engine << " " << a.dt;
+        EXPECT_EQ(a.steps, b.steps) << a.engine << " " << a.dt;
+    }
+    for (std::size_t e = 0; e < one.orders.size(); ++e) EXPECT_EQ(one.orders[e].order, two.orders[e].order);
+    // Rows are engine-major in the request's order, dt in the request's order.
+    EXPECT_EQ(one.rows[0].engine, "reference");
+    EXPECT_EQ(one.rows[2].dt, 0.0075);
+}
+
+TEST(SweepRows, SkippedPairIsARowWithItsReason) {
+    auto all = built_simulators();
+    const Simulator* box2d = find_simulator(all, "box2d");
+    if (!box2d) GTEST_SKIP() << "box2d not built";
+    const Scenario s = load_scenario(kScenarios + "/seed-3d.toml");
+    SweepRequest request;
+    request.simulators = {find_simulator(all, "reference"), box2d};
+    request.dts = {0.03, 0.015};
+    request.repeat = 1;
+    const SweepResult r = run_sweep(s, request);
+    ASSERT_EQ(r.rows.size(), 4u);
+    for (std::size_t i = 2; i < 4; ++i) {
+        EXPECT_EQ(r.rows[i].engine, "box2d");
+        EXPECT_EQ(r.rows[i].status, RunStatus::skipped);
+        EXPECT_FALSE(r.rows[i].reason.empty());
+        EXPECT_FALSE(r.rows[i].error);
+        EXPECT_FALSE(r.rows[i].ns_per_step);
+    }
+    EXPECT_FALSE(r.orders[1].order);
+    // The CSV keeps the row with empty values; the JSON gives the reason.
+    const std::string csv = sweep_csv(r);
+    EXPECT_NE(csv.find("box2d,0.029999999999999999,skipped,,,,,\n"), std::string::npos) << csv;
+    const auto json = sweep_json(s, r, nlohmann::json::object());
+    EXPECT_EQ(json["rows"][2]["status"], "skipped");
+    EXPECT_FALSE(json["rows"][2]["reason"].get<std::string>().empty());
+    EXPECT_TRUE(json["rows"][2]["error"].is_null());
+}
+
+// Throws on the finer step only.
+class Fragile final : public Simulator {
+public:
+    explicit Fragile(const Simulator& inner) : inner_(inner) {}
+    std::string_view name() const override { return "fragile"; }
+    std::string_view description() const override { return "reference that throws below dt = 0.02"; }
+    SimulatorSummary run(const Scenario& s, StateSink* sink) const override {
+        if (s.dt < 0.02) throw std::runtime_error("too fine");
+        SimulatorSummary r = inner_.run(s, sink);
+        r.simulator = "fragile";
+        return r;
+    }
+
+private:
+    const Simulator& inner_;
+};
+
+TEST(SweepRows, FailedPairIsARowWithItsReason) {
+    auto all = built_simulators();
+    const Fragile fragile(*find_simulator(all, "reference"));
+    const Scenario s = load_scenario(kScenarios + "/seed-2d.toml");
+    SweepRequest request;
+    request.simulators = {&fragile};
+    request.dts = {0.03, 0.015};
+    request.repeat = 1;
+    const SweepResult r = run_sweep(s, request);
+    ASSERT_EQ(r.rows.size(), 2u);
+    EXPECT_EQ(r.rows[0].status, RunStatus::ok);
+    EXPECT_EQ(r.rows[1].status, RunStatus::failed);
+    EXPECT_NE(r.rows[1].reason.find("too fine"), std::string::npos) << r.rows[1].reason;
+    EXPECT_FALSE(r.rows[1].error);
+    EXPECT_EQ(r.orders[0].points, 1);
+    EXPECT_FALSE(r.orders[0].order);
+}
+
+struct CliResult {
+    int status = -1;
+    std::string output;
+};
+
+CliResult bouncecheck(const std::string& args) {
+    const std::string cmd = std::string(BOUNCECHECK_CLI) + " " + args + " 2>&1";
+    CliResult r;
+    FILE* pipe = ::popen(cmd.c_str(), "r");
+    if (!pipe) return r;
+    char buf[4096];
+    for (size_t n; (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) r.output.append(buf, n);
+    const int raw = ::pclose(pipe);
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    return r;
+}
+
+fs::path fresh_dir(const std::string& name) {
+    const fs::path dir = fs::temp_directory_path() / ("bouncecheck-test-" + name + "-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    return dir;
+}
+
+TEST(SweepCli, WritesCsvAndJson) {
+    auto all = built_simulators();
+    if (!find_simulator(all, "ode")) GTEST_SKIP() << "ode not built";
+    const fs::path out = fresh_dir("sweep");
+    const CliResult r = bouncecheck("sweep " + kScenarios +
+                                    "/seed-2d.toml --engines reference,ode --dt 0.03,0.015 --repeat 1 --out " +
+                                    out.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("observed order"), std::string::npos) << r.output;
+    std::ifstream csv(out / "sweep.csv");
+    std::string line;
+    ASSERT_TRUE(std::getline(csv, line));
+    EXPECT_EQ(line, "engine,dt,status,error,bounce_error,ns_per_step,sec_per_sim_sec,steps");
+    int rows = 0;
+    while (std::getline(csv, line)) {
+        EXPECT_NE(line.find(",ok,"), std::string::npos) << line;
+        ++rows;
+    }
+    EXPECT_EQ(rows, 4);
+    std::ifstream json_in(out / "sweep.json");
+    const auto json = nlohmann::json::parse(json_in);
+    EXPECT_EQ(json["schema"], kSweepSchema);
+    EXPECT_EQ(json["rows"].size(), 4u);
+    EXPECT_EQ(json["orders"].size(), 2u);
+    EXPECT_EQ(json["parameters"]["repeat"], 1);
+    fs::remove_all(out);
+}
+
+TEST(SweepCli, BadInputExitsTwo) {
+    const std::string scenario = kScenarios + "/seed-2d.toml";
+    const fs::path out = fresh_dir("sweep-bad");
+    for (const std::string args : {" --dt 0.03,x", " --dt 0.03:0.01", " --dt -0.01", " --dt 100",
+                                   " --engines nosuch", " --engines exact", " --repeat 0"}) {
+        const CliResult r = bouncecheck("sweep " + scenario + args + " --out " + out.string());
+        EXPECT_EQ(r.status, 2) << args << ": " << r.output;
+    }
+    EXPECT_EQ(bouncecheck("sweep /nonexistent.toml --out " + out.string()).status, 2);
+    EXPECT_FALSE(fs::exists(out / "sweep.csv"));
+    fs::remove_all(out);
+}
+
+}  // namespace
