@@ -26,6 +26,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <unistd.h>
@@ -74,6 +75,46 @@ std::vector<std::string> split_list(const std::string& list) {
     for (std::string item; std::getline(ss, item, ',');)
         if (!item.empty()) items.push_back(item);
     return items;
+}
+
+// The simulators --engines names (every one in `all` if empty), in its order,
+// without `excluded`. An unknown or excluded name is reported: nothing returned.
+std::optional<std::vector<const Simulator*>> select_simulators(const std::vector<std::unique_ptr<const Simulator>>& all,
+                                                               const std::string& engines,
+                                                               std::string_view excluded = {},
+                                                               std::string_view why_excluded = {}) {
+    std::vector<const Simulator*> selected;
+    std::string known;
+    for (const auto& sim : all) {
+        if (sim->name() == excluded) continue;
+        known += fmt::format("{}{}", known.empty() ? "" : ", ", sim->name());
+        if (engines.empty()) selected.push_back(sim.get());
+    }
+    for (const auto& wanted : split_list(engines)) {
+        const auto it = std::find_if(all.begin(), all.end(), [&](const auto& sim) { return sim->name() == wanted; });
+        if (it == all.end() || wanted == excluded) {
+            const std::string why = it == all.end() ? fmt::format("unknown simulator '{}'", wanted)
+                                                    : std::string(why_excluded);
+            fmt::print(stderr, "error: --engines: {} ({}: {})\n", why, excluded.empty() ? "built" : "available", known);
+            return std::nullopt;
+        }
+        if (std::find(selected.begin(), selected.end(), it->get()) == selected.end()) selected.push_back(it->get());
+    }
+    if (selected.empty()) {
+        fmt::print(stderr, "error: --engines: no simulator selected\n");
+        return std::nullopt;
+    }
+    return selected;
+}
+
+bool create_out_dir(const fs::path& out_dir) {
+    try {
+        fs::create_directories(out_dir);
+        return true;
+    } catch (const std::exception& e) {
+        fmt::print(stderr, "error: --out: cannot create {}: {}\n", out_dir.string(), e.what());
+        return false;
+    }
 }
 
 struct RunOptions {
@@ -132,36 +173,16 @@ int command_run(RunOptions opt) {
         }
     }
 
-    auto all = built_simulators();
-    std::vector<const Simulator*> selected;
-    if (opt.engines.empty()) {
-        for (const auto& sim : all) selected.push_back(sim.get());
-    } else {
-        for (const auto& wanted : split_list(opt.engines)) {
-            auto it = std::find_if(all.begin(), all.end(), [&](const auto& sim) { return sim->name() == wanted; });
-            if (it == all.end()) {
-                std::string known;
-                for (const auto& sim : all) known += fmt::format("{}{}", known.empty() ? "" : ", ", sim->name());
-                fmt::print(stderr, "error: --engines: unknown simulator '{}' (built: {})\n", wanted, known);
-                return kBadInput;
-            }
-            if (std::find(selected.begin(), selected.end(), it->get()) == selected.end())
-                selected.push_back(it->get());
-        }
-    }
-
+    const auto all = built_simulators();
+    const auto selected = select_simulators(all, opt.engines);
+    if (!selected) return kBadInput;
     const fs::path out_dir = opt.out_dir;
-    try {
-        fs::create_directories(out_dir);
-    } catch (const std::exception& e) {
-        fmt::print(stderr, "error: --out: cannot create {}: {}\n", out_dir.string(), e.what());
-        return kBadInput;
-    }
+    if (!create_out_dir(out_dir)) return kBadInput;
 
     RunReport report;
     bool any_failed = false, any_exceeded = false;
     for (const Scenario& s : *scenarios) {
-        ScenarioRun run = run_scenario(s, RunRequest{selected, out_dir, opt.trajectories, opt.overrides});
+        ScenarioRun run = run_scenario(s, RunRequest{*selected, out_dir, opt.trajectories, opt.overrides});
         for (std::size_t i = 0; i < run.results.size(); ++i) {
             any_failed = any_failed || run.results[i].status == RunStatus::failed;
             any_exceeded = any_exceeded || (run.comparisons[i] && !run.comparisons[i]->passed());
@@ -270,43 +291,15 @@ int command_sweep(const SweepOptions& opt) {
     }
 
     // exact is the truth every error is measured against: never swept.
-    auto all = built_simulators();
-    std::vector<const Simulator*> selected;
-    if (opt.engines.empty()) {
-        for (const auto& sim : all)
-            if (sim->name() != "exact") selected.push_back(sim.get());
-    } else {
-        for (const auto& wanted : split_list(opt.engines)) {
-            auto it = std::find_if(all.begin(), all.end(), [&](const auto& sim) { return sim->name() == wanted; });
-            if (it == all.end() || wanted == "exact") {
-                std::string known;
-                for (const auto& sim : all)
-                    if (sim->name() != "exact") known += fmt::format("{}{}", known.empty() ? "" : ", ", sim->name());
-                fmt::print(stderr, "error: --engines: {} (sweepable: {})\n",
-                           wanted == "exact" ? std::string("exact is the truth the sweep measures against")
-                                             : fmt::format("unknown simulator '{}'", wanted),
-                           known);
-                return kBadInput;
-            }
-            if (std::find(selected.begin(), selected.end(), it->get()) == selected.end())
-                selected.push_back(it->get());
-        }
-    }
-    if (selected.empty()) {
-        fmt::print(stderr, "error: --engines: no simulator selected\n");
-        return kBadInput;
-    }
-
+    const auto all = built_simulators();
+    const auto selected =
+        select_simulators(all, opt.engines, "exact", "exact is the truth the sweep measures against");
+    if (!selected) return kBadInput;
     const fs::path out_dir = opt.out_dir;
-    try {
-        fs::create_directories(out_dir);
-    } catch (const std::exception& e) {
-        fmt::print(stderr, "error: --out: cannot create {}: {}\n", out_dir.string(), e.what());
-        return kBadInput;
-    }
+    if (!create_out_dir(out_dir)) return kBadInput;
 
     SweepRequest request;
-    request.simulators = selected;
+    request.simulators = *selected;
     request.dts = dts;
     request.repeat = opt.repeat;
     request.jobs = opt.jobs;
@@ -323,7 +316,7 @@ int command_sweep(const SweepOptions& opt) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
     nlohmann::json engines = nlohmann::json::array();
-    for (const Simulator* sim : selected) engines.push_back(std::string(sim->name()));
+    for (const Simulator* sim : *selected) engines.push_back(std::string(sim->name()));
     const nlohmann::json parameters{{"scenario_file", opt.file},
                                     {"engines", engines},
                                     {"dt", dts},
