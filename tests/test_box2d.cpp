@@ -5,6 +5,7 @@
 #include "adapters/engine.h"
 #include "reference/exact_model.h"
 #include "scenarios/loader.h"
+#include "tests/support/cli.h"
 #include "tests/support/engine_run.h"
 
 #include <gtest/gtest.h>
@@ -144,21 +145,11 @@ TEST(Box2dCapabilities, Seed3dIsSkippedThroughTheRegistry) {
 TEST(Box2dCapabilities, CliRunsSeed3dWithBox2dSkipped) {
     const fs::path out = fs::temp_directory_path() / ("bouncecheck-box2d-cli-" + std::to_string(::getpid()));
     fs::remove_all(out);
-    const std::string cmd = std::string(BOUNCECHECK_CLI) + " run " + BOUNCECHECK_SCENARIO_DIR +
-                            "/seed-3d.toml --engines reference,exact,box2d --out " + out.string() + " 2>&1";
-    std::string output;
-    FILE* pipe = ::popen(cmd.c_str(), "r");
-    ASSERT_NE(pipe, nullptr);
-    char buf[4096];
-    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) output.append(buf, n);
-    const int raw = ::pclose(pipe);
-    ASSERT_TRUE(WIFEXITED(raw));
-    ASSERT_EQ(WEXITSTATUS(raw), 0) << output;
-    EXPECT_NE(output.find("box2d"), std::string::npos) << output;
-    std::ifstream in(out / "report.json");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    const auto report = nlohmann::json::parse(ss.str());
+    const test::CliResult r = test::bouncecheck(std::string("run ") + BOUNCECHECK_SCENARIO_DIR +
+                                                "/seed-3d.toml --engines reference,exact,box2d --out " + out.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("box2d"), std::string::npos) << r.output;
+    const auto report = nlohmann::json::parse(test::slurp(out / "report.json"));
     ASSERT_EQ(report["scenarios"].size(), 1u);
     const auto& sims = report["scenarios"][0]["simulators"];
     ASSERT_EQ(sims.size(), 3u);

@@ -1,4 +1,6 @@
 // The `bouncecheck` command end to end, as a user or a CI script runs it.
+#include "tests/support/cli.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -14,29 +16,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-    int status = -1;
-    std::string output;  // stdout and stderr together
-};
-
-Result bouncecheck(const std::string& args) {
-    const std::string cmd = std::string(BOUNCECHECK_CLI) + " " + args + " 2>&1";
-    Result r;
-    FILE* pipe = ::popen(cmd.c_str(), "r");
-    if (!pipe) return r;
-    char buf[4096];
-    for (size_t n; (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) r.output.append(buf, n);
-    const int raw = ::pclose(pipe);
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    return r;
-}
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+using bouncecheck::test::CliResult;
+using bouncecheck::test::bouncecheck;
+using bouncecheck::test::slurp;
 
 fs::path fresh_dir(const std::string& name) {
     const fs::path dir = fs::temp_directory_path() / ("bouncecheck-test-" + name + "-" + std::to_string(::getpid()));
@@ -49,7 +31,7 @@ const std::string kScenarios = BOUNCECHECK_SCENARIO_DIR;
 
 TEST(Cli, RunBundledWritesGoldenTrajectoriesAndReport) {
     const fs::path out = fresh_dir("run");
-    const Result r = bouncecheck("run --trajectories --out " + out.string());
+    const CliResult r = bouncecheck("run --trajectories --out " + out.string());
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find("seed-2d"), std::string::npos);
     EXPECT_NE(r.output.find("seed-3d"), std::string::npos);
@@ -101,7 +83,7 @@ TEST(Cli, RunBundledWritesGoldenTrajectoriesAndReport) {
 
 TEST(Cli, EnginesSelectsSimulatorsAndRejectsUnknownOnes) {
     const fs::path out = fresh_dir("engines");
-    Result r = bouncecheck("run " + kScenarios + "/seed-3d.toml --engines exact --out " + out.string());
+    CliResult r = bouncecheck("run " + kScenarios + "/seed-3d.toml --engines exact --out " + out.string());
     ASSERT_EQ(r.status, 0) << r.output;
     const auto report = nlohmann::json::parse(slurp(out / "report.json"));
     ASSERT_EQ(report["scenarios"][0]["simulators"].size(), 1u);
@@ -119,7 +101,7 @@ TEST(Cli, InvalidScenarioExits2WithLocatedMessageAndRunsNothing) {
     std::string text = slurp(kScenarios + "/seed-3d.toml");
     text.replace(text.find("radius = 0.05"), 13, "radius = -0.05");
     std::ofstream(bad) << text;
-    const Result r = bouncecheck("run " + bad.string() + " --out " + (out / "o").string());
+    const CliResult r = bouncecheck("run " + bad.string() + " --out " + (out / "o").string());
     EXPECT_EQ(r.status, 2);
     EXPECT_NE(r.output.find(bad.string() + ":"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("ball.radius"), std::string::npos) << r.output;
@@ -128,7 +110,7 @@ TEST(Cli, InvalidScenarioExits2WithLocatedMessageAndRunsNothing) {
 }
 
 TEST(Cli, ValidateReportsEachFile) {
-    Result r = bouncecheck("validate " + kScenarios + "/seed-2d.toml " + kScenarios + "/seed-3d.toml");
+    CliResult r = bouncecheck("validate " + kScenarios + "/seed-2d.toml " + kScenarios + "/seed-3d.toml");
     EXPECT_EQ(r.status, 0) << r.output;
     r = bouncecheck("validate " + kScenarios + "/seed-2d.toml /nonexistent/missing.toml");
     EXPECT_EQ(r.status, 2);
@@ -140,14 +122,14 @@ TEST(Cli, UsageErrorsExit2AndHelpExits0) {
     EXPECT_EQ(bouncecheck("frobnicate").status, 2);
     EXPECT_EQ(bouncecheck("run --no-such-flag").status, 2);
     for (const char* cmd : {"--help", "run --help", "validate --help", "list --help"}) {
-        const Result r = bouncecheck(cmd);
+        const CliResult r = bouncecheck(cmd);
         EXPECT_EQ(r.status, 0) << cmd;
         EXPECT_NE(r.output.find("Usage"), std::string::npos) << cmd << r.output;
     }
 }
 
 TEST(Cli, ListShowsBundledScenariosAndSimulators) {
-    const Result r = bouncecheck("list");
+    const CliResult r = bouncecheck("list");
     ASSERT_EQ(r.status, 0);
     for (const char* name : {"seed-2d", "seed-3d", "reference", "exact"})
         EXPECT_NE(r.output.find(name), std::string::npos) << name;

@@ -5,6 +5,7 @@
 #include "reference/reference_model.h"
 #include "reference/simulators.h"
 #include "scenarios/loader.h"
+#include "tests/support/cli.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -147,56 +148,33 @@ TEST(Comparison, ThresholdsPassAndFailPerSimulator) {
 
 // ---- exit status and reports, end to end through the command
 
-struct Result {
-    int status = -1;
-    std::string output;
-};
-
-Result bouncecheck(const std::string& args) {
-    const std::string cmd = std::string(BOUNCECHECK_CLI) + " " + args + " 2>&1";
-    Result r;
-    FILE* pipe = ::popen(cmd.c_str(), "r");
-    char buf[4096];
-    for (size_t n; pipe && (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) r.output.append(buf, n);
-    const int raw = pipe ? ::pclose(pipe) : -1;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    return r;
-}
-
-std::string slurp(const std::filesystem::path& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
 TEST(ComparisonCli, TightenedThresholdExits1AndEveryReportNamesEngineAndMetric) {
     const auto dir = std::filesystem::temp_directory_path() / ("bouncecheck-thr-" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
-    std::string text = slurp(std::string(BOUNCECHECK_SCENARIO_DIR) + "/seed-3d.toml");
+    std::string text = test::slurp(std::string(BOUNCECHECK_SCENARIO_DIR) + "/seed-3d.toml");
     text = text.substr(0, text.find("\n# CI limits"));  // the bundled thresholds are replaced
     text += "\n[thresholds]\ntrajectory_rms = 1.0\n\n[thresholds.exact]\ntrajectory_rms = 1e-6\n";
     std::ofstream(dir / "tight.toml") << text;
 
-    Result r = bouncecheck("run " + (dir / "tight.toml").string() + " --engines reference,exact --out " + (dir / "o").string());
+    test::CliResult r = test::bouncecheck("run " + (dir / "tight.toml").string() + " --engines reference,exact --out " + (dir / "o").string());
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_NE(r.output.find("trajectory_rms"), std::string::npos) << r.output;
-    const auto report = nlohmann::json::parse(slurp(dir / "o" / "report.json"));
+    const auto report = nlohmann::json::parse(test::slurp(dir / "o" / "report.json"));
     const auto& exact = report["scenarios"][0]["simulators"][1];
     EXPECT_EQ(exact["simulator"], "exact");
     EXPECT_EQ(exact["comparison"]["passed"], false);
     EXPECT_EQ(exact["comparison"]["thresholds"][0]["metric"], "trajectory_rms");
-    const std::string md = slurp(dir / "o" / "report.md"), junit = slurp(dir / "o" / "junit.xml");
+    const std::string md = test::slurp(dir / "o" / "report.md"), junit = test::slurp(dir / "o" / "junit.xml");
     EXPECT_NE(md.find("trajectory_rms"), std::string::npos);
     EXPECT_NE(junit.find("exact"), std::string::npos);
     EXPECT_NE(junit.find("<failure"), std::string::npos);
     EXPECT_NE(junit.find("trajectory_rms"), std::string::npos);
 
     // The command line loosens it again: exit 0, and a bad override is usage error 2.
-    r = bouncecheck("run " + (dir / "tight.toml").string() + " --engines reference,exact --threshold trajectory_rms=1 --out " +
+    r = test::bouncecheck("run " + (dir / "tight.toml").string() + " --engines reference,exact --threshold trajectory_rms=1 --out " +
                     (dir / "o").string());
     EXPECT_EQ(r.status, 0) << r.output;
-    r = bouncecheck("run " + (dir / "tight.toml").string() + " --threshold warp=1 --out " + (dir / "o").string());
+    r = test::bouncecheck("run " + (dir / "tight.toml").string() + " --threshold warp=1 --out " + (dir / "o").string());
     EXPECT_EQ(r.status, 2) << r.output;
     std::filesystem::remove_all(dir);
 }

@@ -3,6 +3,7 @@
 #include "adapters/simulator.h"
 #include "compare/sweep.h"
 #include "scenarios/loader.h"
+#include "tests/support/cli.h"
 
 #include <gtest/gtest.h>
 
@@ -210,23 +211,6 @@ TEST(SweepRows, FailedPairIsARowWithItsReason) {
     EXPECT_FALSE(r.orders[0].order);
 }
 
-struct CliResult {
-    int status = -1;
-    std::string output;
-};
-
-CliResult bouncecheck(const std::string& args) {
-    const std::string cmd = std::string(BOUNCECHECK_CLI) + " " + args + " 2>&1";
-    CliResult r;
-    FILE* pipe = ::popen(cmd.c_str(), "r");
-    if (!pipe) return r;
-    char buf[4096];
-    for (size_t n; (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) r.output.append(buf, n);
-    const int raw = ::pclose(pipe);
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    return r;
-}
-
 fs::path fresh_dir(const std::string& name) {
     const fs::path dir = fs::temp_directory_path() / ("bouncecheck-test-" + name + "-" + std::to_string(::getpid()));
     fs::remove_all(dir);
@@ -237,7 +221,7 @@ TEST(SweepCli, WritesCsvAndJson) {
     auto all = built_simulators();
     if (!find_simulator(all, "ode")) GTEST_SKIP() << "ode not built";
     const fs::path out = fresh_dir("sweep");
-    const CliResult r = bouncecheck("sweep " + kScenarios +
+    const test::CliResult r = test::bouncecheck("sweep " + kScenarios +
                                     "/seed-2d.toml --engines reference,ode --dt 0.03,0.015 --repeat 1 --out " +
                                     out.string());
     ASSERT_EQ(r.status, 0) << r.output;
@@ -266,10 +250,10 @@ TEST(SweepCli, BadInputExitsTwo) {
     const fs::path out = fresh_dir("sweep-bad");
     for (const std::string args : {" --dt 0.03,x", " --dt 0.03:0.01", " --dt -0.01", " --dt 100",
                                    " --engines nosuch", " --engines exact", " --repeat 0"}) {
-        const CliResult r = bouncecheck("sweep " + scenario + args + " --out " + out.string());
+        const test::CliResult r = test::bouncecheck("sweep " + scenario + args + " --out " + out.string());
         EXPECT_EQ(r.status, 2) << args << ": " << r.output;
     }
-    EXPECT_EQ(bouncecheck("sweep /nonexistent.toml --out " + out.string()).status, 2);
+    EXPECT_EQ(test::bouncecheck("sweep /nonexistent.toml --out " + out.string()).status, 2);
     EXPECT_FALSE(fs::exists(out / "sweep.csv"));
     fs::remove_all(out);
 }
