@@ -182,7 +182,7 @@ int command_run(RunOptions opt) {
     RunReport report;
     bool any_failed = false, any_exceeded = false;
     for (const Scenario& s : *scenarios) {
-        ScenarioRun run = run_scenario(s, RunRequest{*selected, out_dir, opt.trajectories, opt.overrides});
+        ScenarioRun run = run_scenario(s, RunRequest{*selected, out_dir, opt.trajectories, opt.overrides, /*plots=*/true});
         for (std::size_t i = 0; i < run.results.size(); ++i) {
             any_failed = any_failed || run.results[i].status == RunStatus::failed;
             any_exceeded = any_exceeded || (run.comparisons[i] && !run.comparisons[i]->passed());
@@ -194,7 +194,7 @@ int command_run(RunOptions opt) {
     const bool colour = ::isatty(::fileno(stdout)) && !std::getenv("NO_COLOR");
     fmt::print("{}", format_comparison(report, colour));
     write_reports(report, out_dir);
-    fmt::print("\nwrote report.json, report.md, junit.xml and bounces.csv in {}\n", out_dir.string());
+    fmt::print("\nwrote report.html, report.json, report.md, junit.xml and bounces.csv in {}\n", out_dir.string());
     if (any_failed) return kSimulatorFailed;
     return any_exceeded ? kThresholdExceeded : kOk;
 }
@@ -327,7 +327,7 @@ int command_sweep(const SweepOptions& opt) {
                                     {"out", out_dir.string()}};
     fmt::print("{}", format_sweep(s, result));
     write_sweep(s, result, parameters, out_dir);
-    fmt::print("\nwrote sweep.csv and sweep.json in {} ({:.2f} s)\n", out_dir.string(), wall);
+    fmt::print("\nwrote sweep.csv, sweep.json and sweep.html in {} ({:.2f} s)\n", out_dir.string(), wall);
     const bool any_failed = std::any_of(result.rows.begin(), result.rows.end(),
                                         [](const SweepRow& r) { return r.status == RunStatus::failed; });
     return any_failed ? kSimulatorFailed : kOk;
@@ -395,7 +395,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 1000));
     sweep->add_option("--jobs", sweep_opt.jobs, "(simulator, dt) pairs run at once (default: every core)")
         ->check(CLI::Range(1, 4096));
-    sweep->add_option("--out", sweep_opt.out_dir, "Output folder for sweep.csv and sweep.json")->capture_default_str();
+    sweep->add_option("--out", sweep_opt.out_dir, "Output folder for sweep.csv, sweep.json and sweep.html")->capture_default_str();
 
     try {
         app.parse(argc, argv);

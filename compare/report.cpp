@@ -645,6 +645,9 @@ void write_reports(const RunReport& report, const std::filesystem::path& out_dir
     write_file_atomically(out_dir / "report.md", to_markdown(report));
     write_file_atomically(out_dir / "junit.xml", to_junit(report));
     write_file_atomically(out_dir / "bounces.csv", bounces_csv(report));
+    const bool plotted = std::any_of(report.scenarios.begin(), report.scenarios.end(),
+                                     [](const ScenarioRun& run) { return !run.plots.empty(); });
+    if (plotted) write_file_atomically(out_dir / "report.html", to_html(report));
 }
 
 }  // namespace bouncecheck

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <optional>
 
 namespace bouncecheck {
@@ -19,10 +20,16 @@ ThresholdSet limits_for(const Scenario& s, const std::string& simulator, const T
 }
 
 ScenarioRun run_scenario(const Scenario& s, const RunRequest& request) {
-    ScenarioRun run{s, {}, {}};
+    ScenarioRun run;
+    run.scenario = s;
     const ExactModel exact(s);
     const SimulatorSummary reference = make_reference_simulator()->run(s, nullptr);
     const SimulatorSummary exact_summary = make_exact_simulator()->run(s, nullptr);
+    if (request.plots) {
+        run.exact_path = exact_plot_trace(exact, s);
+        run.exact_apexes = exact_summary.apexes;
+    }
+    const std::int64_t states = expected_states(s);
 
     for (const Simulator* sim : request.simulators) {
         SimulatorSummary result;
@@ -32,9 +39,15 @@ ScenarioRun run_scenario(const Scenario& s, const RunRequest& request) {
             result.reason = *why;
             run.results.push_back(result);
             run.comparisons.emplace_back();
+            if (request.plots) run.plots.emplace_back();
             continue;
         }
         TrajectoryComparer comparer(s, exact, reference.rest_time, exact_summary.rest_time);
+        std::optional<TraceDecimator> trace;
+        if (request.plots) {
+            trace.emplace(states);
+            comparer.record_series(std::max<std::int64_t>(1, states / static_cast<std::int64_t>(kPlotPoints)));
+        }
         try {
             std::optional<TrajectoryCsv> csv;
             std::filesystem::path relative;
@@ -43,7 +56,7 @@ ScenarioRun run_scenario(const Scenario& s, const RunRequest& request) {
                 std::filesystem::create_directories(request.out_dir / s.name);
                 csv.emplace(request.out_dir / relative, s.dim);
             }
-            TeeSink sink(csv ? &*csv : nullptr, &comparer);
+            TeeSink sink{csv ? &*csv : nullptr, &comparer, trace ? &*trace : nullptr};
             result = sim->run(s, &sink);
             if (csv) {
                 csv->commit();
@@ -63,6 +76,17 @@ ScenarioRun run_scenario(const Scenario& s, const RunRequest& request) {
         c.vs_exact.trajectory = comparer.vs_exact();
         c.damping = check_damping(result, s, limits);
         c.thresholds = check_thresholds(c, limits, s);
+        if (trace) {
+            ScenarioRun::SimulatorPlot plot;
+            // exact's own samples sit on the document clock; its plotted path
+            // has the contacts at their instants instead.
+            plot.path = result.simulator == "exact" ? run.exact_path : trace->finish();
+            plot.divergence_t = comparer.reference_series()->times();
+            plot.divergence = comparer.reference_series()->values();
+            plot.error_t = comparer.exact_series()->times();
+            plot.error = comparer.exact_series()->values();
+            run.plots.push_back(std::move(plot));
+        }
         run.results.push_back(std::move(result));
         run.comparisons.push_back(std::move(c));
     }

@@ -2,6 +2,8 @@
 # Brings a fresh Debian 12 machine to a built bouncecheck: installs the Debian
 # packages that are missing, configures and builds into build/ (or $BUILD_DIR).
 # Sourced or run by scripts/run.sh and scripts/test.sh; safe to run again.
+# WITH_BROWSER=1 (scripts/test.sh sets it) also installs Debian's chromium for
+# the test that opens the HTML pages in a real browser.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -14,6 +16,10 @@ PACKAGES=(
   libgtest-dev libbenchmark-dev
   libbullet-dev libode-dev libbox2d-dev
 )
+# Node.js and npm install the charting library the HTML pages inline
+# (web/package-lock.json). A machine that already has node and npm keeps them.
+command -v node >/dev/null && command -v npm >/dev/null || PACKAGES+=(nodejs npm)
+[ "${WITH_BROWSER:-0}" = 1 ] && PACKAGES+=(chromium)
 
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -25,6 +31,15 @@ if ((${#missing[@]})); then
   [ "$(id -u)" -eq 0 ] || SUDO="sudo"
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+# web/node_modules from the lock file, again only when the lock file changed.
+WEB="$ROOT/web"
+lock_hash="$(sha256sum "$WEB/package-lock.json" | cut -d' ' -f1)"
+if [ "$(cat "$WEB/node_modules/.bouncecheck-lock" 2>/dev/null)" != "$lock_hash" ]; then
+  echo "setup: npm ci in web/"
+  (cd "$WEB" && npm ci --no-audit --no-fund --loglevel=error)
+  echo "$lock_hash" > "$WEB/node_modules/.bouncecheck-lock"
 fi
 
 mkdir -p "$BUILD_DIR"
