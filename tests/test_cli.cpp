@@ -52,6 +52,7 @@ TEST(Cli, RunBundledWritesGoldenTrajectoriesAndReport) {
     }
     const auto report = nlohmann::json::parse(slurp(out / "report.json"));
     EXPECT_EQ(report["schema"], "bouncecheck-report/1");
+    EXPECT_NE(slurp(out / "report.html").find("\"kind\":\"run\""), std::string::npos);
     ASSERT_EQ(report["scenarios"].size(), 4u);  // seed-2d, seed-3d and their per-contact variants
     for (const auto& sc : report["scenarios"]) {
         ASSERT_GE(sc["simulators"].size(), 2u);
