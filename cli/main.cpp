@@ -351,6 +351,7 @@ int command_list() {
 }  // namespace
 
 int main(int argc, char** argv) {
+    remove_unfinished_files_on_interrupt();  // Ctrl-C leaves no half-written file behind
     CLI::App app{"bouncecheck: cross-checks physics engines against the seed document's bouncing-ball model"};
     app.require_subcommand(1);
     app.set_version_flag("--version", std::string(BOUNCECHECK_VERSION));

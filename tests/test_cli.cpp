@@ -137,3 +137,54 @@ TEST(Cli, ListShowsBundledScenariosAndSimulators) {
 }
 
 }  // namespace
+
+namespace {
+
+// Ctrl-C in the middle of writing trajectories: the process dies of SIGINT,
+// leaves no temporary file, and every output file present is complete.
+TEST(Cli, InterruptLeavesNoHalfWrittenFile) {
+    const fs::path out = fresh_dir("interrupt");
+    fs::create_directories(out);
+    // Long enough (1e6 steps) that the run is still writing when interrupted.
+    std::string scenario = slurp(kScenarios + "/seed-2d.toml");
+    scenario.replace(scenario.find("duration = 50.0"), 15, "duration = 30000.0");
+    std::ofstream(out / "long.toml") << scenario;
+
+    const std::string out_dir = (out / "o").string(), file = (out / "long.toml").string();
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        ::execl(BOUNCECHECK_CLI, BOUNCECHECK_CLI, "run", file.c_str(), "--engines", "reference,exact",
+                "--trajectories", "--out", out_dir.c_str(), static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+    // Interrupt once the first trajectory file is being written.
+    for (int i = 0; i < 400; ++i) {
+        bool writing = false;
+        std::error_code ec;
+        for (const auto& e : fs::recursive_directory_iterator(out / "o", ec))
+            writing = writing || e.path().string().find(".tmp.") != std::string::npos;
+        if (writing) break;
+        ::usleep(10'000);
+    }
+    ::kill(pid, SIGINT);
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(WIFSIGNALED(status)) << "the run finished before the interrupt: make it longer";
+    EXPECT_EQ(WTERMSIG(status), SIGINT);
+
+    for (const auto& e : fs::recursive_directory_iterator(out / "o")) {
+        EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << "left behind: " << e.path();
+        if (e.path().extension() == ".csv") {
+            // A complete trajectory: 1,000,001 rows after the header, the last one whole.
+            std::ifstream in(e.path());
+            std::string line, last;
+            std::size_t rows = 0;
+            while (std::getline(in, line)) ++rows, last = line;
+            EXPECT_EQ(rows, 1'000'002u) << e.path();
+        }
+    }
+    fs::remove_all(out);
+}
+
+}  // namespace
