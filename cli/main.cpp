@@ -122,6 +122,7 @@ struct RunOptions {
     std::string engines;
     std::string out_dir = "bouncecheck-out";
     bool trajectories = false;
+    bool no_timings = false;
     std::vector<std::string> threshold_args;  // KEY=VALUE
     ThresholdSet overrides;
 };
@@ -183,6 +184,10 @@ int command_run(RunOptions opt) {
     bool any_failed = false, any_exceeded = false;
     for (const Scenario& s : *scenarios) {
         ScenarioRun run = run_scenario(s, RunRequest{*selected, out_dir, opt.trajectories, opt.overrides, /*plots=*/true});
+        // Wall-clock figures are the only outputs that differ between runs of
+        // the same input: without them every file is a function of the input.
+        if (opt.no_timings)
+            for (SimulatorSummary& r : run.results) r.run_seconds = std::nan("");
         for (std::size_t i = 0; i < run.results.size(); ++i) {
             any_failed = any_failed || run.results[i].status == RunStatus::failed;
             any_exceeded = any_exceeded || (run.comparisons[i] && !run.comparisons[i]->passed());
@@ -363,6 +368,8 @@ int main(int argc, char** argv) {
     run->add_option("--out", run_opt.out_dir, "Output folder")->capture_default_str();
     run->add_flag("--trajectories", run_opt.trajectories,
                   "Write DIR/<scenario>/<simulator>.csv with one row per step");
+    run->add_flag("--no-timings", run_opt.no_timings,
+                  "Leave run times out of every output, so that the same input gives the same bytes");
     run->add_option("--threshold", run_opt.threshold_args,
                     "KEY=VALUE: a [thresholds] limit for every simulator, over the scenario's (repeatable)");
 

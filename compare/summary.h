@@ -42,7 +42,7 @@ struct SimulatorSummary {
         std::string key, value, why;
     };
     std::vector<Setting> settings;
-    double run_seconds = 0;  // wall time of the run, recording included
+    double run_seconds = 0;  // wall time of the run, recording included; NaN: not reported (--no-timings)
     std::string trajectory_file;  // relative to the output folder, if written
 };
 

@@ -6,7 +6,9 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <cstdint>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
@@ -185,6 +187,40 @@ TEST(Cli, InterruptLeavesNoHalfWrittenFile) {
         }
     }
     fs::remove_all(out);
+}
+
+}  // namespace
+
+namespace {
+
+// FNV-1a of every file under `dir`, by relative path.
+std::map<std::string, std::uint64_t> digests(const fs::path& dir) {
+    std::map<std::string, std::uint64_t> out;
+    for (const auto& e : fs::recursive_directory_iterator(dir)) {
+        if (!e.is_regular_file()) continue;
+        std::uint64_t h = 1469598103934665603ull;
+        for (unsigned char c : slurp(e.path())) h = (h ^ c) * 1099511628211ull;
+        out[fs::relative(e.path(), dir).string()] = h;
+    }
+    return out;
+}
+
+// Determinism: the same input gives the same bytes in every output file
+// (reports, page, trajectories) on every run, once wall-clock times are left out.
+TEST(Cli, SameInputSameOutputBits) {
+    const fs::path a = fresh_dir("det-a"), b = fresh_dir("det-b");
+    for (const fs::path& dir : {a, b}) {
+        const CliResult r = bouncecheck("run --no-timings --trajectories --out " + dir.string());
+        ASSERT_EQ(r.status, 0) << r.output;
+    }
+    const auto da = digests(a), db = digests(b);
+    EXPECT_GE(da.size(), 5u + 4 * 4);  // five reports, and four scenarios' trajectories at least
+    EXPECT_EQ(da, db);
+    // And no wall-clock figure slipped in.
+    const auto report = nlohmann::json::parse(slurp(a / "report.json"));
+    for (const auto& sim : report["scenarios"][0]["simulators"]) EXPECT_TRUE(sim["run_seconds"].is_null());
+    fs::remove_all(a);
+    fs::remove_all(b);
 }
 
 }  // namespace
