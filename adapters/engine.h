@@ -79,6 +79,7 @@ class EngineSimulator : public Simulator {
 public:
     std::optional<std::string> cannot_run(const Scenario& s) const override;
     SimulatorSummary run(const Scenario& s, StateSink* sink) const final;
+    bool third_party() const final { return true; }
 
     virtual EngineCapabilities capabilities() const = 0;
 

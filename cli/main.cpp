@@ -123,6 +123,7 @@ struct RunOptions {
     std::string out_dir = "bouncecheck-out";
     bool trajectories = false;
     bool no_timings = false;
+    bool in_process = false;
     std::vector<std::string> threshold_args;  // KEY=VALUE
     ThresholdSet overrides;
 };
@@ -183,7 +184,8 @@ int command_run(RunOptions opt) {
     RunReport report;
     bool any_failed = false, any_exceeded = false;
     for (const Scenario& s : *scenarios) {
-        ScenarioRun run = run_scenario(s, RunRequest{*selected, out_dir, opt.trajectories, opt.overrides, /*plots=*/true});
+        ScenarioRun run = run_scenario(s, RunRequest{*selected, out_dir, opt.trajectories, opt.overrides, /*plots=*/true,
+                                                      /*isolate=*/!opt.in_process});
         // Wall-clock figures are the only outputs that differ between runs of
         // the same input: without them every file is a function of the input.
         if (opt.no_timings)
@@ -368,6 +370,9 @@ int main(int argc, char** argv) {
     run->add_option("--out", run_opt.out_dir, "Output folder")->capture_default_str();
     run->add_flag("--trajectories", run_opt.trajectories,
                   "Write DIR/<scenario>/<simulator>.csv with one row per step");
+    run->add_flag("--in-process", run_opt.in_process,
+                  "Run the engines in this process rather than each in a child process (an engine that "
+                  "aborts then ends the whole run)");
     run->add_flag("--no-timings", run_opt.no_timings,
                   "Leave run times out of every output, so that the same input gives the same bytes");
     run->add_option("--threshold", run_opt.threshold_args,
