@@ -62,7 +62,7 @@ SimulatorSummary EngineSimulator::run(const Scenario& s, StateSink* sink) const 
     out.run_seconds = timed_seconds([&] {
         const std::unique_ptr<EngineWorld> world = build(engine_scenario, options, out.settings);
         out.settings.push_back(
-            {"substeps", fmt::format("{} engine step{} of {:.17g} per scenario step", substeps,
+            {"substeps", fmt::format("{} engine step{} of {} s per scenario step", substeps,
                                      substeps == 1 ? "" : "s", engine_scenario.dt),
              substeps == 1 ? "one engine step per scenario step (the document's step)"
                            : "scenario [engines.<name>] substeps: shorter engine steps against fast balls and large dt"});

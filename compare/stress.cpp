@@ -369,6 +369,7 @@ StressResult run_stress_case(const StressCase& c, const Simulator& sim, double b
 StressReport run_stress(const std::vector<StressCase>& cases, const StressRequest& request) {
     const auto wall_start = std::chrono::steady_clock::now();
     StressReport report;
+    report.budget_seconds = request.budget_seconds;
     for (const StressCase& c : cases)
         if (std::find(report.rows.begin(), report.rows.end(), c.row) == report.rows.end()) report.rows.push_back(c.row);
     for (const Simulator* sim : request.simulators) report.simulators.emplace_back(sim->name());
@@ -432,7 +433,7 @@ const char* short_name(Invariant i) {
 }
 
 std::string cell(const std::vector<const StressResult*>& results) {
-    if (results.size() == 1) {
+    if (results.size() == 1 && results.front()->row == results.front()->scenario) {
         const StressResult& r = *results.front();
         switch (r.outcome) {
             case StressOutcome::pass: return "pass";
@@ -493,8 +494,9 @@ std::string format_stress_matrix(const StressReport& r) {
         out += "\n";
     }
     out += "  pass: every invariant held; FAIL <first invariant broken>; - skipped; families: passed/ran, C crashed\n";
-    out += "  tolerances: finite state; room: penetration <= r/2; energy: rise <= 1% of the starting energy + "
-           "k^2 |g|^2 dt^2; time: 30 s budget per run (--budget); cost: late ns/step <= 3x early\n";
+    out += fmt::format("  tolerances: finite state; room: penetration <= r/2; energy: rise <= 1% of the starting "
+                       "energy + k^2 |g|^2 dt^2; time: {:g} s per run; cost: late ns/step <= {:g}x early\n",
+                       r.budget_seconds, kCostRatioLimit);
     return out;
 }
 

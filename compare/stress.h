@@ -77,11 +77,13 @@ struct StressLimits {
 // start (kinetic, plus potential down to the walls gravity points at), plus
 // k^2 |g|^2 dt^2, the energy of the micro-bounce a stepped simulator keeps at
 // rest (k as in StreamRecorder's rest detection). Cost: late ns/step at most
-// 3 times early ns/step.
+// kCostRatioLimit times early ns/step.
 StressLimits stress_limits(const Scenario& s, double budget_seconds);
 
 inline constexpr double kDefaultBudgetSeconds = 30;
-inline constexpr double kCostRatioLimit = 3;
+// Subnormal arithmetic costs ~14x (docs/models.md); a ball resting in a corner
+// legitimately costs ODE 2.5x a free flight (three contact joints in the LCP).
+inline constexpr double kCostRatioLimit = 4;
 inline constexpr std::int64_t kCostBlockSteps = 256;  // states per timing block
 inline constexpr int kCostMinBlocks = 16;             // fewer: too short to judge the cost
 
@@ -123,6 +125,7 @@ struct StressReport {
     std::vector<std::string> simulators;  // in request order
     std::vector<StressResult> results;    // case-major, simulators in request order
     double wall_seconds = 0;
+    double budget_seconds = 0;
 };
 
 // Runs `s` on `sim` and judges every invariant.
