@@ -355,13 +355,15 @@ StressResult run_stress_case(const StressCase& c, const Simulator& sim, double b
     if (!budget.held && !budget.first_t) budget.first_t = summary ? summary->final_state.t : 0.0;
     r.checks = {finite, room, energy, budget, cost_check(watch.blocks(), limits.cost_ratio)};
 
-    if (const InvariantCheck* first = r.first_broken()) {
-        r.outcome = StressOutcome::fail;
-        r.reason = fmt::format("{} broke at t = {:.6g} s", to_string(first->invariant), first->first_t.value_or(0.0));
-    } else if (summary && summary->status == RunStatus::failed) {
-        // The simulator gave up for a reason of its own (e.g. exact's event cap).
+    // The recorder fails a run for a non-finite state or a ball beyond a wall,
+    // which the watch sees too; any other failure is the simulator giving up
+    // (exact's event cap): its later states are no finding, the run is a hole.
+    if (summary && summary->status == RunStatus::failed && finite.held && room.held) {
         r.outcome = StressOutcome::crashed;
         r.reason = summary->reason;
+    } else if (const InvariantCheck* first = r.first_broken()) {
+        r.outcome = StressOutcome::fail;
+        r.reason = fmt::format("{} broke at t = {:.6g} s", to_string(first->invariant), first->first_t.value_or(0.0));
     }
     return r;
 }
