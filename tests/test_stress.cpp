@@ -421,6 +421,18 @@ TEST(StressOptions, RemediesReachTheEnginesAndWork) {
 }
 #endif
 
+#ifdef BOUNCECHECK_WITH_BOX2D
+TEST(StressOptions, Box2dCcdSwitchIsRecorded) {
+    const auto sim = test::find_simulator("box2d");
+    const StressResult plain = run_stress_case({"fast-5", load_scenario(kStressDir / "fast-5.toml")}, *sim, 30);
+    const StressResult guarded = run_stress_case({"fast-5-ccd", load_scenario(kStressDir / "fast-5-ccd.toml")}, *sim, 30);
+    EXPECT_EQ(plain.ccd, "off");
+    EXPECT_TRUE(guarded.ccd.starts_with("on")) << guarded.ccd;
+    EXPECT_FALSE(check(plain, Invariant::in_room).held);
+    EXPECT_EQ(guarded.outcome, StressOutcome::pass) << guarded.reason;
+}
+#endif
+
 // --- the command ---
 
 class StressCli : public ::testing::Test {

@@ -246,7 +246,7 @@ public:
         set("sleeping", t.allow_sleep ? "on" : "off (world and body)",
             "Box2D default on: a body slower than b2_linearSleepTolerance for b2_timeToSleep (0.5 s) freezes "
             "while the law still micro-bounces");
-        set("continuous", continuous ? "on (TOI against static walls; bullet flag off, sub-stepping off)" : "off",
+        set("ccd", continuous ? "on (TOI against static walls; bullet flag off, sub-stepping off)" : "off",
             options.ccd ? "scenario [engines.box2d] ccd"
                         : "the bounce is resolved at the time of impact inside the step instead of one step late, "
                           "penetration limited to ~3 b2_linearSlop");
