@@ -17,6 +17,7 @@
 #include <limits>
 #include <map>
 #include <mutex>
+#include <set>
 #include <utility>
 
 namespace bouncecheck {
@@ -633,6 +634,16 @@ void write_stress(const StressReport& r, const std::vector<StressCase>& cases, c
                   const std::filesystem::path& out_dir) {
     write_file_atomically(out_dir / "stress.csv", stress_csv(r));
     write_file_atomically(out_dir / "stress.json", stress_json(r, cases, parameters).dump(2) + "\n");
+    // A generated scenario that broke something, as a file `bouncecheck run` reproduces.
+    std::set<std::string> written;
+    for (const StressResult& res : r.results) {
+        if (res.outcome != StressOutcome::fail && res.outcome != StressOutcome::crashed) continue;
+        const auto c = std::find_if(cases.begin(), cases.end(),
+                                    [&](const StressCase& k) { return k.generated && k.scenario.name == res.scenario; });
+        if (c == cases.end() || !written.insert(res.scenario).second) continue;
+        std::filesystem::create_directories(out_dir / kStressScenarioDir);
+        write_file_atomically(out_dir / kStressScenarioDir / (res.scenario + ".toml"), scenario_toml(c->scenario));
+    }
 }
 
 }  // namespace bouncecheck

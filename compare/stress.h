@@ -22,6 +22,7 @@
 namespace bouncecheck {
 
 inline constexpr const char* kStressSchema = "bouncecheck-stress/1";
+inline constexpr const char* kStressScenarioDir = "stress-scenarios";
 
 // One scenario of the suite and the matrix row it is counted in: a bundled
 // file is its own row; a generated family ("monte-carlo", "wall-starts") is one row.
@@ -142,7 +143,8 @@ std::string format_stress_failures(const StressReport& r);
 std::string stress_csv(const StressReport& r);
 nlohmann::json stress_json(const StressReport& r, const std::vector<StressCase>& cases,
                            const nlohmann::json& parameters);
-// Writes DIR/stress.json and DIR/stress.csv, each atomically.
+// Writes DIR/stress.json and DIR/stress.csv, and each generated scenario that
+// failed or crashed as DIR/stress-scenarios/<name>.toml, each atomically.
 void write_stress(const StressReport& r, const std::vector<StressCase>& cases, const nlohmann::json& parameters,
                   const std::filesystem::path& out_dir);
 

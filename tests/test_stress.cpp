@@ -474,6 +474,26 @@ TEST_F(StressCli, BrokenInvariantExitsOneAndIsNamed) {
 }
 #endif
 
+TEST_F(StressCli, FailedGeneratedScenariosAreWrittenForRun) {
+    const Scenario broken = monte_carlo_scenarios(kMonteCarloSeed, 3)[2];
+    const Scenario fine = monte_carlo_scenarios(kMonteCarloSeed, 3)[1];
+    const std::vector<StressCase> cases{{kMonteCarloRow, fine, true}, {kMonteCarloRow, broken, true}};
+    StressReport report;
+    report.rows = {kMonteCarloRow};
+    report.simulators = {"scripted"};
+    report.results.resize(2);
+    report.results[0] = {kMonteCarloRow, fine.name, "scripted", StressOutcome::pass, "", {}, 0, 0, "", ""};
+    report.results[1] = {kMonteCarloRow, broken.name, "scripted", StressOutcome::fail, "in_room", {}, 0, 0, "", ""};
+    fs::create_directories(out_);
+    write_stress(report, cases, nlohmann::json::object(), out_);
+    const fs::path file = out_ / kStressScenarioDir / (broken.name + ".toml");
+    ASSERT_TRUE(fs::exists(file));
+    EXPECT_FALSE(fs::exists(out_ / kStressScenarioDir / (fine.name + ".toml")));
+    EXPECT_EQ(scenario_toml(load_scenario(file)).substr(0, 40), scenario_toml(broken).substr(0, 40));
+    EXPECT_EQ(load_scenario(file).velocity, broken.velocity);
+    EXPECT_EQ(test::bouncecheck("validate " + file.string()).status, 0);
+}
+
 TEST_F(StressCli, BadInputExitsTwo) {
     EXPECT_EQ(test::bouncecheck("stress --only no-such-row --out " + out_.string()).status, 2);
     EXPECT_EQ(test::bouncecheck("stress --engines warp --out " + out_.string()).status, 2);
