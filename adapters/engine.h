@@ -49,7 +49,8 @@ std::vector<Wall> room_walls(const Scenario& s);
 class EngineWorld {
 public:
     virtual ~EngineWorld() = default;
-    // Exactly one engine step of dt (no substeps, no interpolation).
+    // Exactly one engine step of the dt the world was built for (no
+    // interpolation); the shared loop calls it `substeps` times per scenario step.
     virtual void step() = 0;
     // Ball centre and velocity in scenario units; the loop sets t.
     virtual void read(State& out) const = 0;

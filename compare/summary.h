@@ -60,6 +60,12 @@ inline constexpr std::size_t kReportedApexes = 5;  // in the terminal summary
 // exact: at the instant.
 ContactEvent measure_contact(double t, int axis, int side, const Vec3& v_before, const Vec3& v_after, int dim);
 
+// How far the ball's surface reaches beyond the nearest wall it overlaps (m):
+// the largest of r - p_i and p_i - (room_i - r); <= 0 while clear of every wall.
+double wall_penetration(const State& s, const Vec3& room, double radius, int dim);
+// Mechanical energy per unit mass (J/kg): 0.5 |v|^2 - g.p.
+double specific_energy(const State& s, const Vec3& gravity, int dim);
+
 // Consumes a simulator's state stream: counts and measures contacts, finds
 // apexes (the highest sample between floor contacts, refined by the parabola
 // through it and its neighbours), tracks penetration, energy and rest, watches
