@@ -355,6 +355,21 @@ std::string md_cell(std::string_view s) {
     return out;
 }
 
+
+std::string csv_field(std::string_view s) {
+    if (s.find_first_of(",\"\n\r") == std::string_view::npos) return std::string(s);
+    std::string out = "\"";
+    for (char ch : s) {
+        if (ch == '"') out += '"';
+        out += ch;
+    }
+    return out + "\"";
+}
+
+std::string csv_number(double v) { return std::isfinite(v) ? fmt::format("{:.17g}", v) : std::string(); }
+
+}  // namespace
+
 std::string xml_escape(std::string_view s) {
     std::string out;
     out.reserve(s.size());
@@ -373,20 +388,6 @@ std::string xml_escape(std::string_view s) {
     }
     return out;
 }
-
-std::string csv_field(std::string_view s) {
-    if (s.find_first_of(",\"\n\r") == std::string_view::npos) return std::string(s);
-    std::string out = "\"";
-    for (char ch : s) {
-        if (ch == '"') out += '"';
-        out += ch;
-    }
-    return out + "\"";
-}
-
-std::string csv_number(double v) { return std::isfinite(v) ? fmt::format("{:.17g}", v) : std::string(); }
-
-}  // namespace
 
 nlohmann::json to_json(const RunReport& report) {
     nlohmann::json scenarios = nlohmann::json::array();

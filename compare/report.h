@@ -12,6 +12,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace bouncecheck {
@@ -40,6 +41,8 @@ struct RunReport {
 };
 
 nlohmann::json to_json(const RunReport& report);
+// Text made safe for XML and HTML (junit.xml, the HTML pages' titles).
+std::string xml_escape(std::string_view s);
 // Per scenario, one row per simulator: steps, contacts, first apex heights, rest, run time.
 std::string format_summary(const RunReport& report);
 // Per scenario, one row per simulator: divergence from the reference, error

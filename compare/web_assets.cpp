@@ -1,5 +1,7 @@
 #include "compare/web_assets.h"
 
+#include "compare/report.h"
+
 #include <fmt/format.h>
 
 #include <cstddef>
@@ -30,19 +32,6 @@ std::string script_safe_json(std::string_view json) {
     return out;
 }
 
-std::string html_escape(std::string_view s) {
-    std::string out;
-    for (char c : s) {
-        switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '"': out += "&quot;"; break;
-            default: out += c;
-        }
-    }
-    return out;
-}
 
 }  // namespace
 
@@ -62,7 +51,7 @@ std::string self_contained_page(std::string_view title, std::string_view data_js
         "<script>\n{}\n</script>\n"
         "<script id=\"bouncecheck-data\" type=\"application/json\">{}</script>\n"
         "</head>\n<body>\n<main id=\"page\"></main>\n<script>\n{}\n</script>\n</body>\n</html>\n",
-        html_escape(title), page_css(), plotly_js(), script_safe_json(data_json), page_js());
+        xml_escape(title), page_css(), plotly_js(), script_safe_json(data_json), page_js());
 }
 
 }  // namespace bouncecheck
