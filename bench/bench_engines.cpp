@@ -25,6 +25,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -46,10 +47,14 @@ using BuildWorld = std::function<std::unique_ptr<EngineWorld>(const Scenario&, c
 void bare(benchmark::State& state, const Scenario& s, const std::string& engine, const BuildWorld& build) {
     const EngineOptions options = s.engine_options(engine);
     const std::int64_t steps = document_step_count(s.dt, s.duration);
+    // The same substeps as the shared loop: a world built for dt / substeps.
+    const int substeps = std::max(1, options.substeps);
+    Scenario engine_scenario = s;
+    engine_scenario.dt = s.dt / substeps;
     for (auto _ : state) {
         std::vector<SimulatorSummary::Setting> settings;
-        const std::unique_ptr<EngineWorld> world = build(s, options, settings);
-        for (std::int64_t n = 0; n < steps; ++n) world->step();
+        const std::unique_ptr<EngineWorld> world = build(engine_scenario, options, settings);
+        for (std::int64_t n = 0; n < steps * substeps; ++n) world->step();
         State last;
         world->read(last);
         benchmark::DoNotOptimize(last);
