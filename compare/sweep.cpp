@@ -5,7 +5,9 @@
 
 #include <fmt/format.h>
 #include <tbb/info.h>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -218,7 +220,15 @@ SweepResult run_sweep(const Scenario& s, const SweepRequest& request) {
     };
     const int jobs = request.jobs > 0 ? request.jobs : tbb::info::default_concurrency();
     tbb::task_arena arena(jobs);
-    arena.execute([&] { tbb::parallel_for(std::size_t{0}, tasks.size(), run_task); });
+    // One task per chunk: the costliest start first, the cheap ones fill in.
+    arena.execute([&] {
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, tasks.size(), 1),
+            [&](const tbb::blocked_range<std::size_t>& r) {
+                for (std::size_t t = r.begin(); t != r.end(); ++t) run_task(t);
+            },
+            tbb::simple_partitioner());
+    });
 
     for (const Simulator* sim : request.simulators) result.orders.push_back(fit_order(result.rows, std::string(sim->name())));
     return result;
