@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -64,6 +65,13 @@ constexpr int kMaxDotsOutsideStrings = 1000;
 // Also the range in which every integer converts to double exactly.
 constexpr double kMaxMagnitude = 1e15;
 constexpr double kMaxSteps = 1e10;
+// The engines abort on some input far below everyday scales, so the loader
+// refuses it first: ODE on a subnormal dt (its quaternion normalisation
+// faults), Box2D on a ball of radius 1e-100 (it scales lengths by 1/radius
+// into floats, and speeds overflow), ODE on one of 1e-300 (its inertia
+// underflows to 0). With |v| <= kMaxMagnitude and radius >= kMinRadius,
+// Box2D's scaled speeds stay below 1e24, far inside a float.
+constexpr double kMinRadius = 1e-9;
 constexpr std::size_t kMaxNameBytes = 255;  // NAME_MAX: the name becomes a folder
 constexpr std::size_t kMaxEchoBytes = 60;   // of untrusted text quoted in a reason
 
@@ -426,6 +434,13 @@ private:
             report(n.where, n.key, fmt::format("magnitude of {} exceeds the limit of {}", n.value, kMaxMagnitude));
             return std::nullopt;
         }
+        if (std::fpclassify(n.value) == FP_SUBNORMAL) {
+            report(n.where, n.key,
+                   fmt::format("{} is subnormal (nonzero but below {} in magnitude), which the engines cannot "
+                               "step safely; write 0 or a larger number",
+                               n.value, std::numeric_limits<double>::min()));
+            return std::nullopt;
+        }
         return n;
     }
 
@@ -613,8 +628,15 @@ Scenario validate(const toml::table& root, Checker& c) {
     auto thresholds = read_thresholds(root, c);
     c.report_unknown_keys();
 
-    if (radius) c.expect(radius->value > 0, *radius, fmt::format("must be > 0, got {}", radius->value));
-    const bool radius_ok = radius && radius->value > 0;
+    if (radius) {
+        c.expect(radius->value > 0, *radius, fmt::format("must be > 0, got {}", radius->value));
+        if (radius->value > 0)
+            c.expect(radius->value >= kMinRadius, *radius,
+                     fmt::format("{} m is below the limit of {} m (1 nm), which keeps every engine's arithmetic "
+                                 "in range",
+                                 radius->value, kMinRadius));
+    }
+    const bool radius_ok = radius && radius->value >= kMinRadius;
     if (size) {
         for (std::size_t i = 0; i < size->size(); ++i) {
             const Number& side = (*size)[i];
@@ -671,10 +693,17 @@ Scenario validate(const toml::table& root, Checker& c) {
     return s;
 }
 
+// Why oversized input is refused, `what` being "input is" or "file is N bytes,";
+// reported at 1:1, where the input starts.
+std::string too_large(std::string_view what) {
+    return fmt::format("{} larger than the limit of {} bytes (1 MiB); a scenario file is far smaller", what,
+                       kMaxInputBytes);
+}
+
 Scenario parse_unguarded(std::string_view text, const std::string& file_name) {
     Checker c{file_name};
     if (text.size() > kMaxInputBytes) {
-        c.report({}, "", fmt::format("input is larger than {} bytes; a scenario file is far smaller", kMaxInputBytes));
+        c.report({1, 1}, "", too_large("input is"));
         c.fail();
     }
     if (auto hazard = find_parser_hazard(text)) {
@@ -701,9 +730,14 @@ Scenario load_unguarded(const std::filesystem::path& file) {
     if (std::filesystem::is_directory(status)) fail("cannot open: is a directory, not a scenario file");
     if (!std::filesystem::is_regular_file(status)) fail("cannot open: not a regular file");
 
+    // Refused by its size before a byte is read, so a 1 GB file costs nothing.
+    const std::uintmax_t bytes = std::filesystem::file_size(file, ec);
+    if (!ec && bytes > kMaxInputBytes)
+        throw ScenarioError({{name, 1, 1, "", too_large(fmt::format("file is {} bytes,", bytes))}});
+
     std::ifstream in(file, std::ios::binary);
     if (!in) fail(fmt::format("cannot open: {}", std::generic_category().message(errno)));
-    // One byte past the limit is enough for parse_unguarded to reject an oversized file.
+    // One byte past the limit is enough for parse_unguarded to reject a file that grew since.
     std::string text(kMaxInputBytes + 1, '\0');
     in.read(text.data(), static_cast<std::streamsize>(text.size()));
     if (in.bad()) fail("cannot read file");
