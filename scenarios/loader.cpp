@@ -17,7 +17,6 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
-#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -66,12 +65,14 @@ constexpr int kMaxDotsOutsideStrings = 1000;
 constexpr double kMaxMagnitude = 1e15;
 constexpr double kMaxSteps = 1e10;
 // The engines abort on some input far below everyday scales, so the loader
-// refuses it first: ODE on a subnormal dt (its quaternion normalisation
-// faults), Box2D on a ball of radius 1e-100 (it scales lengths by 1/radius
-// into floats, and speeds overflow), ODE on one of 1e-300 (its inertia
-// underflows to 0). With |v| <= kMaxMagnitude and radius >= kMinRadius,
-// Box2D's scaled speeds stay below 1e24, far inside a float.
+// refuses it first: a 2D ball of radius 1e-100 makes Box2D assert (it scales
+// lengths by 1/radius into floats, and speeds overflow), one of 1e-300 makes
+// ODE abort (its inertia underflows), and so does a dt of 1e-300 at speeds of
+// 1e15 or a subnormal dt (its constraint forces scale with 1/dt and overflow;
+// its quaternion normalisation faults). With |v| <= kMaxMagnitude and these
+// floors, every engine tried stays finite or fails cleanly.
 constexpr double kMinRadius = 1e-9;
+constexpr double kMinDt = 1e-9;
 constexpr std::size_t kMaxNameBytes = 255;  // NAME_MAX: the name becomes a folder
 constexpr std::size_t kMaxEchoBytes = 60;   // of untrusted text quoted in a reason
 
@@ -434,13 +435,6 @@ private:
             report(n.where, n.key, fmt::format("magnitude of {} exceeds the limit of {}", n.value, kMaxMagnitude));
             return std::nullopt;
         }
-        if (std::fpclassify(n.value) == FP_SUBNORMAL) {
-            report(n.where, n.key,
-                   fmt::format("{} is subnormal (nonzero but below {} in magnitude), which the engines cannot "
-                               "step safely; write 0 or a larger number",
-                               n.value, std::numeric_limits<double>::min()));
-            return std::nullopt;
-        }
         return n;
     }
 
@@ -663,10 +657,17 @@ Scenario validate(const toml::table& root, Checker& c) {
             c.expect(factor->value >= 0 && factor->value <= 1, *factor,
                      fmt::format("damping factor must be within [0, 1], got {}", factor->value));
     }
-    if (dt) c.expect(dt->value > 0, *dt, fmt::format("must be > 0, got {}", dt->value));
+    if (dt) {
+        c.expect(dt->value > 0, *dt, fmt::format("must be > 0, got {}", dt->value));
+        if (dt->value > 0)
+            c.expect(dt->value >= kMinDt, *dt,
+                     fmt::format("{} s is below the limit of {} s (1 ns), which keeps every engine's arithmetic in "
+                                 "range",
+                                 dt->value, kMinDt));
+    }
     if (duration)
         c.expect(duration->value > 0, *duration, fmt::format("must be > 0, got {}", duration->value));
-    if (dt && duration && dt->value > 0 && duration->value > 0) {
+    if (dt && duration && dt->value >= kMinDt && duration->value > 0) {  // else dt is reported already
         c.expect(dt->value <= duration->value, *dt,
                  fmt::format("dt {} is larger than duration {}", dt->value, duration->value));
         const double steps = duration->value / dt->value;

@@ -192,7 +192,8 @@ TEST_F(HostileInput, RoomsOfExtremeSize) {
 
 TEST_F(HostileInput, ScalesThatMadeEnginesAbort) {
     // Box2D asserted on a 2D ball of radius 1e-100 (its speeds, scaled by
-    // 1/radius into floats, overflowed); ODE on a subnormal dt.
+    // 1/radius into floats, overflowed); ODE on a subnormal dt, and on a dt
+    // of 1e-300 with a speed of 1e15.
     std::string text = slurp(kScenarios / "seed-2d.toml");
     text.replace(text.find("size = [1.0, 1.0]"), 17, "size = [1e-99, 1e-99]");
     text.replace(text.find("radius = 0.05"), 13, "radius = 1e-100");
@@ -203,7 +204,13 @@ TEST_F(HostileInput, ScalesThatMadeEnginesAbort) {
     const std::string run = seed_with("dt = 0.03", "dt = 5e-324");
     const fs::path ode = write("ode.toml", run);
     expect_refused(ode, {ode.string() + ":" + std::to_string(line_of(run, "dt = ")) +
-                         ":6: run.dt: 5e-324 is subnormal"});
+                         ":6: run.dt: 5e-324 s is below the limit of 1e-09 s"});
+    text = slurp(kScenarios / "seed-2d.toml");
+    text.replace(text.find("velocity = [0.3, 0.0]"), 21, "velocity = [1e15, 0.0]");
+    text.replace(text.find("dt = 0.03"), 9, "dt = 1e-300");
+    const fs::path fast = write("fast.toml", text);
+    expect_refused(fast, {fast.string() + ":" + std::to_string(line_of(text, "dt = ")) +
+                          ":6: run.dt: 1e-300 s is below the limit of 1e-09 s"});
 }
 
 TEST_F(HostileInput, NoSuchFileAndDirectory) {
