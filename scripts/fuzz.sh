@@ -45,10 +45,10 @@ status=0
   -dict="$ROOT/fuzz/toml.dict" -max_total_time="$SECONDS_TO_RUN" -timeout=10 -rss_limit_mb=2048 \
   -artifact_prefix="$BUILD_DIR/findings/" -print_final_stats=1 \
   > "$BUILD_DIR/fuzz.log" 2>&1 || status=$?
-# The summary: the coverage line of the last report, and the final counts.
+# The summary: the last status line (executions, coverage "cov", corpus
+# "corp" after libFuzzer's own reduction), and the final counts.
 grep -E '^#[0-9]+' "$BUILD_DIR/fuzz.log" | tail -n 1 || true
 grep -E '^(Done|stat::number_of_executed_units|stat::peak_rss_mb)' "$BUILD_DIR/fuzz.log" || true
-echo "fuzz: corpus $(find "$BUILD_DIR/corpus" -type f | wc -l) inputs"
 if ((status != 0)); then
   tail -n 60 "$BUILD_DIR/fuzz.log"
   echo "fuzz: failed (exit $status); findings in $BUILD_DIR/findings/:" >&2
