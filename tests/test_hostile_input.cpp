@@ -201,13 +201,14 @@ TEST_F(HostileInput, ScalesThatMadeEnginesAbort) {
     const fs::path box2d = write("box2d.toml", text);
     expect_refused(box2d, {box2d.string() + ":" + std::to_string(line_of(text, "radius = ")) +
                            ":10: ball.radius: 1e-100 m is below the limit"});
-    const std::string run = seed_with("dt = 0.03", "dt = 5e-324");
+    // 1000 steps each, within the steps limit: only the dt floor refuses them.
+    const std::string run = seed_with("dt = 0.03\nduration = 42.0", "dt = 5e-324\nduration = 5e-321");
     const fs::path ode = write("ode.toml", run);
     expect_refused(ode, {ode.string() + ":" + std::to_string(line_of(run, "dt = ")) +
                          ":6: run.dt: 5e-324 s is below the limit of 1e-09 s"});
     text = slurp(kScenarios / "seed-2d.toml");
     text.replace(text.find("velocity = [0.3, 0.0]"), 21, "velocity = [1e15, 0.0]");
-    text.replace(text.find("dt = 0.03"), 9, "dt = 1e-300");
+    text.replace(text.find("dt = 0.03\nduration = 50.0"), 25, "dt = 1e-300\nduration = 1e-297");
     const fs::path fast = write("fast.toml", text);
     expect_refused(fast, {fast.string() + ":" + std::to_string(line_of(text, "dt = ")) +
                           ":6: run.dt: 1e-300 s is below the limit of 1e-09 s"});
