@@ -49,7 +49,8 @@ std::vector<Wall> room_walls(const Scenario& s);
 class EngineWorld {
 public:
     virtual ~EngineWorld() = default;
-    // Exactly one engine step of dt (no substeps, no interpolation).
+    // Exactly one engine step of the dt the world was built for (no
+    // interpolation); the shared loop calls it `substeps` times per scenario step.
     virtual void step() = 0;
     // Ball centre and velocity in scenario units; the loop sets t.
     virtual void read(State& out) const = 0;
@@ -79,6 +80,7 @@ class EngineSimulator : public Simulator {
 public:
     std::optional<std::string> cannot_run(const Scenario& s) const override;
     SimulatorSummary run(const Scenario& s, StateSink* sink) const final;
+    bool third_party() const final { return true; }
 
     virtual EngineCapabilities capabilities() const = 0;
 

@@ -26,6 +26,9 @@ public:
     // Runs `s` to its end, streaming states into a recorder (and into `sink`
     // when given). Status, counts, apexes and timing come back.
     virtual SimulatorSummary run(const Scenario& s, StateSink* sink) const = 0;
+    // Runs a library this project does not own (an engine): `run` isolates it
+    // in a child process, where an abort costs only its own result.
+    virtual bool third_party() const { return false; }
 };
 
 // Every simulator this build contains, `reference` and `exact` first.

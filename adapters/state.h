@@ -4,6 +4,7 @@
 #include "scenarios/scenario.h"
 
 #include <cstdint>
+#include <initializer_list>
 
 namespace bouncecheck {
 
@@ -22,18 +23,21 @@ public:
     virtual void write(const State& s) = 0;
 };
 
-// Passes every state to two sinks (either may be null).
+// Passes every state to each of a few sinks (null ones are left out).
 class TeeSink final : public StateSink {
 public:
-    TeeSink(StateSink* first, StateSink* second) : first_(first), second_(second) {}
+    TeeSink(std::initializer_list<StateSink*> sinks) {
+        for (StateSink* s : sinks)
+            if (s && count_ < kMaxSinks) sinks_[count_++] = s;
+    }
     void write(const State& s) override {
-        if (first_) first_->write(s);
-        if (second_) second_->write(s);
+        for (int i = 0; i < count_; ++i) sinks_[i]->write(s);
     }
 
 private:
-    StateSink* first_;
-    StateSink* second_;
+    static constexpr int kMaxSinks = 4;
+    StateSink* sinks_[kMaxSinks] = {};
+    int count_ = 0;
 };
 
 // A highest point of the vertical coordinate between floor contacts.

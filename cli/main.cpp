@@ -1,4 +1,4 @@
-// The `bouncecheck` command: run, validate, list, calibrate, sweep.
+// The `bouncecheck` command: run, validate, list, calibrate, sweep, stress.
 //
 // Exit status (a contract, see README): 0 ran and every threshold held;
 // 1 a threshold was exceeded; 2 bad input or usage, nothing run;
@@ -8,6 +8,7 @@
 #include "compare/report.h"
 #include "compare/run.h"
 #include "compare/sweep.h"
+#include "compare/stress.h"
 #include "compare/atomic_file.h"
 #include "compare/trajectory_csv.h"
 #include "scenarios/loader.h"
@@ -122,6 +123,8 @@ struct RunOptions {
     std::string engines;
     std::string out_dir = "bouncecheck-out";
     bool trajectories = false;
+    bool no_timings = false;
+    bool in_process = false;
     std::vector<std::string> threshold_args;  // KEY=VALUE
     ThresholdSet overrides;
 };
@@ -182,7 +185,12 @@ int command_run(RunOptions opt) {
     RunReport report;
     bool any_failed = false, any_exceeded = false;
     for (const Scenario& s : *scenarios) {
-        ScenarioRun run = run_scenario(s, RunRequest{*selected, out_dir, opt.trajectories, opt.overrides});
+        ScenarioRun run = run_scenario(s, RunRequest{*selected, out_dir, opt.trajectories, opt.overrides, /*plots=*/true,
+                                                      /*isolate=*/!opt.in_process});
+        // Wall-clock figures are the only outputs that differ between runs of
+        // the same input: without them every file is a function of the input.
+        if (opt.no_timings)
+            for (SimulatorSummary& r : run.results) r.run_seconds = std::nan("");
         for (std::size_t i = 0; i < run.results.size(); ++i) {
             any_failed = any_failed || run.results[i].status == RunStatus::failed;
             any_exceeded = any_exceeded || (run.comparisons[i] && !run.comparisons[i]->passed());
@@ -194,7 +202,7 @@ int command_run(RunOptions opt) {
     const bool colour = ::isatty(::fileno(stdout)) && !std::getenv("NO_COLOR");
     fmt::print("{}", format_comparison(report, colour));
     write_reports(report, out_dir);
-    fmt::print("\nwrote report.json, report.md, junit.xml and bounces.csv in {}\n", out_dir.string());
+    fmt::print("\nwrote report.html, report.json, report.md, junit.xml and bounces.csv in {}\n", out_dir.string());
     if (any_failed) return kSimulatorFailed;
     return any_exceeded ? kThresholdExceeded : kOk;
 }
@@ -327,10 +335,82 @@ int command_sweep(const SweepOptions& opt) {
                                     {"out", out_dir.string()}};
     fmt::print("{}", format_sweep(s, result));
     write_sweep(s, result, parameters, out_dir);
-    fmt::print("\nwrote sweep.csv and sweep.json in {} ({:.2f} s)\n", out_dir.string(), wall);
+    fmt::print("\nwrote sweep.csv, sweep.json and sweep.html in {} ({:.2f} s)\n", out_dir.string(), wall);
     const bool any_failed = std::any_of(result.rows.begin(), result.rows.end(),
                                         [](const SweepRow& r) { return r.status == RunStatus::failed; });
     return any_failed ? kSimulatorFailed : kOk;
+}
+
+struct StressOptions {
+    std::string engines;
+    int jobs = 0;  // 0: every core
+    std::string out_dir = "bouncecheck-out";
+    std::vector<std::string> only;  // rows or scenario names
+    double budget = kDefaultBudgetSeconds;
+};
+
+// Exit status of stress (README): 0 every invariant held; 1 an invariant
+// broke, a finding about a simulator; 3 a simulator threw or gave up, so the
+// matrix has a hole (over 1: the run is incomplete); 2 bad input.
+int command_stress(const StressOptions& opt) {
+    std::vector<fs::path> files;
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(bundled_scenario_dir() / "stress", ec))
+        if (entry.is_regular_file() && entry.path().extension() == ".toml") files.push_back(entry.path());
+    std::sort(files.begin(), files.end());
+    auto scenarios = load_all(files);
+    if (!scenarios) return kBadInput;
+    std::vector<StressCase> cases = stress_suite(*scenarios);
+    if (!opt.only.empty()) {
+        std::vector<StressCase> chosen;
+        for (const auto& name : opt.only) {
+            const auto matches = [&](const StressCase& c) { return c.row == name || c.scenario.name == name; };
+            if (std::none_of(cases.begin(), cases.end(), matches)) {
+                std::set<std::string> rows;
+                for (const auto& c : cases) rows.insert(c.row);
+                fmt::print(stderr, "error: --only: no stress scenario or row '{}' (rows: {})\n", name,
+                           fmt::join(rows, ", "));
+                return kBadInput;
+            }
+        }
+        std::copy_if(cases.begin(), cases.end(), std::back_inserter(chosen), [&](const StressCase& c) {
+            return std::any_of(opt.only.begin(), opt.only.end(),
+                               [&](const std::string& n) { return c.row == n || c.scenario.name == n; });
+        });
+        cases = std::move(chosen);
+    }
+    const auto all = built_simulators();
+    const auto selected = select_simulators(all, opt.engines);
+    if (!selected) return kBadInput;
+    const fs::path out_dir = opt.out_dir;
+    if (!create_out_dir(out_dir)) return kBadInput;
+
+    StressRequest request;
+    request.simulators = *selected;
+    request.jobs = opt.jobs;
+    request.budget_seconds = opt.budget;
+    request.on_progress = [](const StressResult& r, std::size_t done, std::size_t total) {
+        if (r.row == r.scenario || r.outcome == StressOutcome::crashed)
+            fmt::print(stderr, "[{}/{}] {} {}: {}{}{}\n", done, total, r.scenario, r.simulator, to_string(r.outcome),
+                       r.reason.empty() ? "" : ": ", r.reason);
+    };
+    const StressReport report = run_stress(cases, request);
+    nlohmann::json engines = nlohmann::json::array();
+    for (const Simulator* sim : *selected) engines.push_back(std::string(sim->name()));
+    const nlohmann::json parameters{{"engines", engines},
+                                    {"jobs", opt.jobs > 0 ? opt.jobs : 0},
+                                    {"only", opt.only},
+                                    {"budget_seconds", opt.budget},
+                                    {"out", out_dir.string()}};
+    fmt::print("{}{}", format_stress_matrix(report), format_stress_failures(report));
+    write_stress(report, cases, parameters, out_dir);
+    fmt::print("\nwrote stress.json and stress.csv in {}\n", out_dir.string());
+    const auto any = [&](StressOutcome o) {
+        return std::any_of(report.results.begin(), report.results.end(),
+                           [&](const StressResult& r) { return r.outcome == o; });
+    };
+    if (any(StressOutcome::crashed)) return kSimulatorFailed;
+    return any(StressOutcome::fail) ? kThresholdExceeded : kOk;
 }
 
 int command_list() {
@@ -351,6 +431,7 @@ int command_list() {
 }  // namespace
 
 int main(int argc, char** argv) {
+    remove_unfinished_files_on_interrupt();  // Ctrl-C leaves no half-written file behind
     CLI::App app{"bouncecheck: cross-checks physics engines against the seed document's bouncing-ball model"};
     app.require_subcommand(1);
     app.set_version_flag("--version", std::string(BOUNCECHECK_VERSION));
@@ -362,6 +443,11 @@ int main(int argc, char** argv) {
     run->add_option("--out", run_opt.out_dir, "Output folder")->capture_default_str();
     run->add_flag("--trajectories", run_opt.trajectories,
                   "Write DIR/<scenario>/<simulator>.csv with one row per step");
+    run->add_flag("--in-process", run_opt.in_process,
+                  "Run the engines in this process rather than each in a child process (an engine that "
+                  "aborts then ends the whole run)");
+    run->add_flag("--no-timings", run_opt.no_timings,
+                  "Leave run times out of every output, so that the same input gives the same bytes");
     run->add_option("--threshold", run_opt.threshold_args,
                     "KEY=VALUE: a [thresholds] limit for every simulator, over the scenario's (repeatable)");
 
@@ -395,7 +481,22 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 1000));
     sweep->add_option("--jobs", sweep_opt.jobs, "(simulator, dt) pairs run at once (default: every core)")
         ->check(CLI::Range(1, 4096));
-    sweep->add_option("--out", sweep_opt.out_dir, "Output folder for sweep.csv and sweep.json")->capture_default_str();
+    sweep->add_option("--out", sweep_opt.out_dir, "Output folder for sweep.csv, sweep.json and sweep.html")->capture_default_str();
+
+    StressOptions stress_opt;
+    auto* stress = app.add_subcommand(
+        "stress", "Run the stress suite (scenarios/stress/*.toml, wall starts, a Monte-Carlo set) on every selected "
+                  "simulator and check its invariants");
+    stress->add_option("--engines", stress_opt.engines, "Comma-separated simulators (default: every one built)");
+    stress->add_option("--jobs", stress_opt.jobs, "Runs at once (default: every core)")->check(CLI::Range(1, 4096));
+    stress->add_option("--out", stress_opt.out_dir, "Output folder for stress.json and stress.csv")
+        ->capture_default_str();
+    stress->add_option("--only", stress_opt.only,
+                       "Only these rows (a scenario's name, monte-carlo, wall-starts) or generated scenarios")
+        ->expected(1, -1);
+    stress->add_option("--budget", stress_opt.budget, "Wall-time budget of one run (s)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.001, 86400.0));
 
     try {
         app.parse(argc, argv);
@@ -416,6 +517,7 @@ int main(int argc, char** argv) {
         if (*list) return command_list();
         if (*calibrate) return command_calibrate(calibrate_opt);
         if (*sweep) return command_sweep(sweep_opt);
+        if (*stress) return command_stress(stress_opt);
     } catch (const std::exception& e) {
         fmt::print(stderr, "error: {}\n", e.what());
         return kSimulatorFailed;

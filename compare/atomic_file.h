@@ -24,9 +24,15 @@ private:
     std::filesystem::path target_;
     std::filesystem::path temp_;
     std::FILE* file_ = nullptr;
+    int slot_ = -1;  // in the registry the interrupt handler cleans up
 };
 
 // Writes `contents` to `target` atomically.
 void write_file_atomically(const std::filesystem::path& target, std::string_view contents);
+
+// On SIGINT, SIGTERM or SIGHUP: removes every temporary file still open, then
+// dies of the same signal (so the caller's shell sees the interruption). The
+// targets are untouched: each is either absent or a complete earlier file.
+void remove_unfinished_files_on_interrupt();
 
 }  // namespace bouncecheck

@@ -76,8 +76,19 @@ TrajectoryComparer::~TrajectoryComparer() = default;
 void TrajectoryComparer::write(const State& s) {
     const State ref = reference_->next(!reference_->started);
     reference_->started = true;
-    vs_reference_->add(s.t, (s.p - ref.p).norm());
-    vs_exact_->add(s.t, (s.p - exact_.state_at(s.t).p).norm());
+    const double to_reference = (s.p - ref.p).norm();
+    const double to_exact = (s.p - exact_.state_at(s.t).p).norm();
+    vs_reference_->add(s.t, to_reference);
+    vs_exact_->add(s.t, to_exact);
+    if (reference_series_) {
+        reference_series_->add(s.t, to_reference);
+        exact_series_->add(s.t, to_exact);
+    }
+}
+
+void TrajectoryComparer::record_series(std::int64_t stride) {
+    reference_series_.emplace(stride);
+    exact_series_.emplace(stride);
 }
 
 TrajectoryDivergence TrajectoryComparer::vs_reference() const { return vs_reference_->finished(); }
@@ -136,18 +147,25 @@ Divergence compare_bounces(const SimulatorSummary& self, const SimulatorSummary&
     return d;
 }
 
+std::vector<ContactEvent> damping_contacts(const SimulatorSummary& self, const Scenario& s) {
+    // Measured from samples a step apart, a contact's coefficients carry one
+    // step of gravity, |g| dt, against its incoming speed: contacts slower than
+    // kMinSpeedInSteps |g| dt (micro-bounces) would measure gravity, not damping.
+    const double min_speed = kMinSpeedInSteps * s.gravity.norm() * s.dt;
+    std::vector<ContactEvent> out;
+    for (const ContactEvent& c : self.contact_events) {
+        if (self.rest_time && c.t >= *self.rest_time) break;
+        if (c.normal_speed_in >= min_speed) out.push_back(c);
+    }
+    return out;
+}
+
 DampingCheck check_damping(const SimulatorSummary& self, const Scenario& s, const ThresholdSet& limits) {
     DampingCheck d;
     d.normal_tolerance = limits.restitution_abs.value_or(kDefaultDampingTolerance);
     d.tangential_tolerance = limits.tangential_abs.value_or(kDefaultDampingTolerance);
     double normal_sum = 0, tangential_sum = 0, normal_dev = -1, tangential_dev = -1;
-    // Measured from samples a step apart, a contact's coefficients carry one
-    // step of gravity, |g| dt, against its incoming speed: contacts slower than
-    // kMinSpeedInSteps |g| dt (micro-bounces) would measure gravity, not damping.
-    const double min_speed = kMinSpeedInSteps * s.gravity.norm() * s.dt;
-    for (const ContactEvent& c : self.contact_events) {
-        if (self.rest_time && c.t >= *self.rest_time) break;
-        if (c.normal_speed_in < min_speed) continue;
+    for (const ContactEvent& c : damping_contacts(self, s)) {
         ++d.contacts;
         normal_sum += c.normal_coefficient;
         if (std::abs(c.normal_coefficient - s.alpha) > normal_dev) {

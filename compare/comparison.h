@@ -7,6 +7,7 @@
 // trajectory comparison is sample by sample, with no interpolation.
 #pragma once
 
+#include "compare/plot_data.h"
 #include "compare/summary.h"
 #include "reference/exact_model.h"
 #include "scenarios/scenario.h"
@@ -87,6 +88,12 @@ public:
     void write(const State& s) override;
     TrajectoryDivergence vs_reference() const;
     TrajectoryDivergence vs_exact() const;
+    // Also keeps both distances over time, for the HTML report: the largest of
+    // every `stride` samples (see WindowMaxSeries).
+    void record_series(std::int64_t stride);
+    // Empty unless record_series was called.
+    const std::optional<WindowMaxSeries>& reference_series() const { return reference_series_; }
+    const std::optional<WindowMaxSeries>& exact_series() const { return exact_series_; }
 
 private:
     struct Stats;
@@ -94,7 +101,12 @@ private:
     const ExactModel& exact_;
     std::unique_ptr<LockstepReference> reference_;
     std::unique_ptr<Stats> vs_reference_, vs_exact_;
+    std::optional<WindowMaxSeries> reference_series_, exact_series_;
 };
+
+// The contacts the damping check measures: before the simulator's rest, and
+// faster than kMinSpeedInSteps |g| dt.
+std::vector<ContactEvent> damping_contacts(const SimulatorSummary& self, const Scenario& s);
 
 // Bounce-by-bounce comparison of two summaries' apexes and floor contacts.
 Divergence compare_bounces(const SimulatorSummary& self, const SimulatorSummary& baseline, int bounce_count,

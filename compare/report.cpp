@@ -163,7 +163,8 @@ nlohmann::json result_json(const SimulatorSummary& r, const Comparison* c, int d
                         {"position", vec_json(r.final_state.p, dim)},
                         {"velocity", vec_json(r.final_state.v, dim)}};
     j["run_seconds"] = num(r.run_seconds);
-    j["ns_per_step"] = r.steps > 0 ? num(r.run_seconds * 1e9 / static_cast<double>(r.steps)) : nlohmann::json(0.0);
+    j["ns_per_step"] = r.steps > 0 ? num(r.run_seconds * 1e9 / static_cast<double>(r.steps))
+                                   : num(r.run_seconds * 0.0);  // 0, or null when not measured
     if (!r.trajectory_file.empty()) j["trajectory"] = r.trajectory_file;
     if (!r.settings.empty()) {
         nlohmann::json settings = nlohmann::json::array();
@@ -218,7 +219,7 @@ Row make_row(const ScenarioRun& run, std::size_t i) {
     row.status = r.status;
     row.reason = r.reason;
     if (r.status == RunStatus::skipped) return row;
-    if (r.steps > 0) {
+    if (r.steps > 0 && std::isfinite(r.run_seconds)) {
         const double ns = r.run_seconds * 1e9 / static_cast<double>(r.steps);
         row.ns_per_step = std::abs(ns) < 1e6 ? fmt::format("{:.1f}", ns) : fmt::format("{:.3g}", ns);
     }
@@ -354,6 +355,21 @@ std::string md_cell(std::string_view s) {
     return out;
 }
 
+
+std::string csv_field(std::string_view s) {
+    if (s.find_first_of(",\"\n\r") == std::string_view::npos) return std::string(s);
+    std::string out = "\"";
+    for (char ch : s) {
+        if (ch == '"') out += '"';
+        out += ch;
+    }
+    return out + "\"";
+}
+
+std::string csv_number(double v) { return std::isfinite(v) ? fmt::format("{:.17g}", v) : std::string(); }
+
+}  // namespace
+
 std::string xml_escape(std::string_view s) {
     std::string out;
     out.reserve(s.size());
@@ -372,20 +388,6 @@ std::string xml_escape(std::string_view s) {
     }
     return out;
 }
-
-std::string csv_field(std::string_view s) {
-    if (s.find_first_of(",\"\n\r") == std::string_view::npos) return std::string(s);
-    std::string out = "\"";
-    for (char ch : s) {
-        if (ch == '"') out += '"';
-        out += ch;
-    }
-    return out + "\"";
-}
-
-std::string csv_number(double v) { return std::isfinite(v) ? fmt::format("{:.17g}", v) : std::string(); }
-
-}  // namespace
 
 nlohmann::json to_json(const RunReport& report) {
     nlohmann::json scenarios = nlohmann::json::array();
@@ -417,8 +419,10 @@ std::string format_summary(const RunReport& report) {
             const std::string contacts =
                 fmt::format("{}{}", r.contacts, r.contacts_unbounded ? "+inf" : "");
             const std::string rest = r.rest_time ? fmt::format("{:.2f}", *r.rest_time) : "-";
-            fmt::format_to(out, "  {:<10} {:>9} {:>9}  {:<31} {:>8} {:>8.3f}ms\n", r.simulator, r.steps, contacts,
-                           apexes, rest, r.run_seconds * 1e3);
+            const std::string run_time =
+                std::isfinite(r.run_seconds) ? fmt::format("{:.3f}ms", r.run_seconds * 1e3) : std::string("-");
+            fmt::format_to(out, "  {:<10} {:>9} {:>9}  {:<31} {:>8} {:>10}\n", r.simulator, r.steps, contacts,
+                           apexes, rest, run_time);
             if (r.status == RunStatus::failed) fmt::format_to(out, "  {:<10} FAILED: {}\n", "", r.reason);
         }
     }
@@ -645,6 +649,9 @@ void write_reports(const RunReport& report, const std::filesystem::path& out_dir
     write_file_atomically(out_dir / "report.md", to_markdown(report));
     write_file_atomically(out_dir / "junit.xml", to_junit(report));
     write_file_atomically(out_dir / "bounces.csv", bounces_csv(report));
+    const bool plotted = std::any_of(report.scenarios.begin(), report.scenarios.end(),
+                                     [](const ScenarioRun& run) { return !run.plots.empty(); });
+    if (plotted) write_file_atomically(out_dir / "report.html", to_html(report));
 }
 
 }  // namespace bouncecheck

@@ -16,6 +16,10 @@ struct RunRequest {
     std::filesystem::path out_dir;             // trajectories go to out_dir/<scenario>/<simulator>.csv
     bool trajectories = false;
     ThresholdSet threshold_overrides;  // from the command line: over the scenario's, for every simulator
+    bool plots = false;  // record what report.html draws (decimated paths, distances over time)
+    // Run each engine (Simulator::third_party) in a child process, so that an
+    // engine that aborts costs only its own result.
+    bool isolate = false;
 };
 
 // Runs the baselines (reference and exact) first, then each selected

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <limits>
 
 namespace bouncecheck {
 
@@ -102,12 +103,21 @@ void StreamRecorder::push_apex() {
     ++apex_count_;
 }
 
-void StreamRecorder::track_penetration_and_energy(const State& s) {
+double wall_penetration(const State& s, const Vec3& room, double radius, int dim) {
+    double deepest = -std::numeric_limits<double>::infinity();
+    for (int i = 0; i < dim; ++i) deepest = std::max({deepest, radius - s.p[i], s.p[i] - (room[i] - radius)});
+    return deepest;
+}
+
+double specific_energy(const State& s, const Vec3& gravity, int dim) {
     double energy = 0.5 * s.v.squaredNorm();
-    for (int i = 0; i < dim_; ++i) {
-        energy -= gravity_[i] * s.p[i];
-        max_penetration_ = std::max({max_penetration_, radius_ - s.p[i], s.p[i] - (room_[i] - radius_)});
-    }
+    for (int i = 0; i < dim; ++i) energy -= gravity[i] * s.p[i];
+    return energy;
+}
+
+void StreamRecorder::track_penetration_and_energy(const State& s) {
+    const double energy = specific_energy(s, gravity_, dim_);
+    max_penetration_ = std::max(max_penetration_, wall_penetration(s, room_, radius_, dim_));
     if (states_ == 0) energy0_ = energy;
     energy_max_rise_ = std::max(energy_max_rise_, energy - energy0_);
 }

@@ -42,7 +42,7 @@ struct SimulatorSummary {
         std::string key, value, why;
     };
     std::vector<Setting> settings;
-    double run_seconds = 0;  // wall time of the run, recording included
+    double run_seconds = 0;  // wall time of the run, recording included; NaN: not reported (--no-timings)
     std::string trajectory_file;  // relative to the output folder, if written
 };
 
@@ -59,6 +59,12 @@ inline constexpr std::size_t kReportedApexes = 5;  // in the terminal summary
 // An engine that bounces the pre-gravity velocity measures alpha (1 - |g| dt / v).
 // exact: at the instant.
 ContactEvent measure_contact(double t, int axis, int side, const Vec3& v_before, const Vec3& v_after, int dim);
+
+// How far the ball's surface reaches beyond the nearest wall it overlaps (m):
+// the largest of r - p_i and p_i - (room_i - r); <= 0 while clear of every wall.
+double wall_penetration(const State& s, const Vec3& room, double radius, int dim);
+// Mechanical energy per unit mass (J/kg): 0.5 |v|^2 - g.p.
+double specific_energy(const State& s, const Vec3& gravity, int dim);
 
 // Consumes a simulator's state stream: counts and measures contacts, finds
 // apexes (the highest sample between floor contacts, refined by the parabola

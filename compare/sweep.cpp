@@ -253,9 +253,28 @@ std::string sweep_csv(const SweepResult& r) {
     return out;
 }
 
+std::vector<bool> pareto_front(const std::vector<SweepRow>& rows) {
+    const auto usable = [](const SweepRow& r) {
+        return r.status == RunStatus::ok && r.error && *r.error > 0 && r.sec_per_sim_sec;
+    };
+    std::vector<bool> front(rows.size(), false);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        if (!usable(rows[i])) continue;
+        front[i] = std::none_of(rows.begin(), rows.end(), [&](const SweepRow& other) {
+            if (!usable(other)) return false;
+            const bool no_worse = *other.error <= *rows[i].error && *other.sec_per_sim_sec <= *rows[i].sec_per_sim_sec;
+            const bool better = *other.error < *rows[i].error || *other.sec_per_sim_sec < *rows[i].sec_per_sim_sec;
+            return no_worse && better;
+        });
+    }
+    return front;
+}
+
 nlohmann::json sweep_json(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters) {
     nlohmann::json rows = nlohmann::json::array();
-    for (const SweepRow& row : r.rows) {
+    const std::vector<bool> front = pareto_front(r.rows);
+    for (std::size_t i = 0; i < r.rows.size(); ++i) {
+        const SweepRow& row = r.rows[i];
         nlohmann::json j{{"engine", row.engine},
                          {"dt", row.dt},
                          {"status", to_string(row.status)},
@@ -264,7 +283,8 @@ nlohmann::json sweep_json(const Scenario& s, const SweepResult& r, const nlohman
                          {"ns_per_step", json_number(row.ns_per_step)},
                          {"sec_per_sim_sec", json_number(row.sec_per_sim_sec)},
                          {"steps", json_number(row.steps)},
-                         {"min_seconds", json_number(row.min_seconds)}};
+                         {"min_seconds", json_number(row.min_seconds)},
+                         {"pareto", static_cast<bool>(front[i])}};
         if (!row.reason.empty()) j["reason"] = row.reason;
         rows.push_back(std::move(j));
     }
@@ -311,7 +331,9 @@ std::string format_sweep(const Scenario& s, const SweepResult& r) {
 void write_sweep(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters,
                  const std::filesystem::path& out_dir) {
     write_file_atomically(out_dir / "sweep.csv", sweep_csv(r));
-    write_file_atomically(out_dir / "sweep.json", sweep_json(s, r, parameters).dump(2) + "\n");
+    const nlohmann::json json = sweep_json(s, r, parameters);
+    write_file_atomically(out_dir / "sweep.json", json.dump(2) + "\n");
+    write_file_atomically(out_dir / "sweep.html", sweep_html(json));
 }
 
 }  // namespace bouncecheck

@@ -84,13 +84,22 @@ SweepResult run_sweep(const Scenario& s, const SweepRequest& request);
 // Least-squares slope of log(error) against log(dt) over `engine`'s ok rows with error > 0.
 SweepOrder fit_order(const std::vector<SweepRow>& rows, const std::string& engine);
 
+// For each row: is it on the Pareto front of error against cost (sec_per_sim_sec)?
+// A row is, if it succeeded with error > 0 and no other such row is at least
+// as good on both and better on one.
+std::vector<bool> pareto_front(const std::vector<SweepRow>& rows);
+
 // sweep.csv: engine,dt,status,error,bounce_error,ns_per_step,sec_per_sim_sec,steps
 std::string sweep_csv(const SweepResult& r);
-// sweep.json: the rows, each engine's fitted order and the command's parameters.
+// sweep.json: the rows (with their Pareto flag), each engine's fitted order and the command's parameters.
 nlohmann::json sweep_json(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters);
 // The terminal table: engine, dt, error, bounce error, ns/step; each engine's order.
 std::string format_sweep(const Scenario& s, const SweepResult& r);
-// Writes DIR/sweep.csv and DIR/sweep.json, each atomically.
+// sweep.html: the work-precision plot (log-log error against cost, one line
+// per engine, the Pareto front marked) and the orders, self-contained like
+// report.html (compare/html_report.cpp).
+std::string sweep_html(const nlohmann::json& sweep);
+// Writes DIR/sweep.csv, DIR/sweep.json and DIR/sweep.html, each atomically.
 void write_sweep(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters,
                  const std::filesystem::path& out_dir);
 

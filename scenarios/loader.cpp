@@ -481,6 +481,28 @@ Vec3 to_vec3(const std::vector<Number>& numbers) {
     return v;
 }
 
+constexpr std::int64_t kMaxSubsteps = 1000;
+
+// ccd and substeps of an [engines.<name>] table: the remedies for fast balls
+// and large steps (see docs/engines.md for what each engine does with them).
+void read_collision_options(const toml::table& engine, const std::string& path, const std::string& name,
+                            EngineOptions& options, Checker& c) {
+    if (const toml::node* node = c.get(engine, path, "ccd", false)) {
+        if (const auto* flag = node->as_boolean()) {
+            options.ccd = flag->get();
+            if (name == "ode" && flag->get())
+                c.report(start_of(*node), child_key(path, "ccd"),
+                         "ODE has no continuous collision detection; use substeps instead");
+        } else {
+            c.report(start_of(*node), child_key(path, "ccd"), fmt::format("expected a boolean, got {}", type_name(*node)));
+        }
+    }
+    if (const auto n = c.optional_integer(engine, path, "substeps")) {
+        if (n->value >= 1 && n->value <= kMaxSubsteps) options.substeps = static_cast<int>(n->value);
+        else c.report(n->where, n->key, fmt::format("must be within [1, {}], got {}", kMaxSubsteps, n->value));
+    }
+}
+
 // [engines.<name>]: per-engine settings. Engine names are checked against
 // every engine bouncecheck knows, built or not, so a file validates the same
 // on every build.
@@ -518,6 +540,7 @@ std::map<std::string, EngineOptions> read_engines(const toml::table& root, Check
                 c.report(start_of(*rotation), child_key(path, "rotation"),
                          fmt::format("must be \"free\" or \"locked\", got \"{}\"", printable(rotation->get())));
         }
+        read_collision_options(*engine, path, name, options, c);
         engines[name] = options;
     }
     for (const auto& [key, node] : *table) {

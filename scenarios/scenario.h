@@ -23,6 +23,11 @@ struct EngineOptions {
     TangentialModel tangential_model = TangentialModel::friction;
     double friction = 0.0;      // mu, friction model only
     bool free_rotation = true;  // false locks the ball's rotation
+    // Continuous collision detection against the walls; unset keeps the
+    // adapter's own choice (docs/engines.md). ODE has none.
+    std::optional<bool> ccd;
+    // Engine steps per scenario step, each of dt / substeps (adapters/engine.cpp).
+    int substeps = 1;
 };
 
 // CI limits on a simulator's divergence from the reference ([thresholds],

@@ -3,6 +3,8 @@
 # packages that are missing, configures and builds into build/ (or $BUILD_DIR).
 # Run by scripts/run.sh, test.sh and sanitize.sh; arguments go to the CMake
 # configure step (e.g. -DBOUNCECHECK_WITH_ODE=OFF). Safe to run again.
+# WITH_BROWSER=1 (scripts/test.sh sets it) also installs Debian's chromium for
+# the test that opens the HTML pages in a real browser.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -15,8 +17,21 @@ PACKAGES=(
   libgtest-dev libbenchmark-dev
   libbullet-dev libode-dev libbox2d-dev
 )
+# Node.js and npm install the charting library the HTML pages inline
+# (web/package-lock.json). A machine that already has node and npm keeps them.
+command -v node >/dev/null && command -v npm >/dev/null || PACKAGES+=(nodejs npm)
+[ "${WITH_BROWSER:-0}" = 1 ] && PACKAGES+=(chromium)
 
 "$ROOT/scripts/packages.sh" "${PACKAGES[@]}"
+
+# web/node_modules from the lock file, again only when the lock file changed.
+WEB="$ROOT/web"
+lock_hash="$(sha256sum "$WEB/package-lock.json" | cut -d' ' -f1)"
+if [ "$(cat "$WEB/node_modules/.bouncecheck-lock" 2>/dev/null)" != "$lock_hash" ]; then
+  echo "setup: npm ci in web/"
+  (cd "$WEB" && npm ci --no-audit --no-fund --loglevel=error)
+  echo "$lock_hash" > "$WEB/node_modules/.bouncecheck-lock"
+fi
 
 mkdir -p "$BUILD_DIR"
 cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE="${BUILD_TYPE:-Release}" "$@" > "$BUILD_DIR/configure.log" 2>&1 \

@@ -411,7 +411,7 @@ TEST(Box2dTrap, ContinuousCollision) {
     const auto good = floor_hits(ours.states, s.radius);
     ASSERT_EQ(bad.size(), 1u);
     ASSERT_EQ(good.size(), 1u);
-    EXPECT_EQ(setting(ours.summary, "continuous").substr(0, 2), "on");
+    EXPECT_EQ(setting(ours.summary, "ccd").substr(0, 2), "on");
     // Without it the ball sinks 9 mm (a step's travel) and turns a step late.
     EXPECT_LT(bad[0].min_height(), s.radius - 0.005);
     EXPECT_GT(good[0].min_height(), s.radius - 0.001);

@@ -6,7 +6,9 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <cstdint>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
@@ -52,6 +54,7 @@ TEST(Cli, RunBundledWritesGoldenTrajectoriesAndReport) {
     }
     const auto report = nlohmann::json::parse(slurp(out / "report.json"));
     EXPECT_EQ(report["schema"], "bouncecheck-report/1");
+    EXPECT_NE(slurp(out / "report.html").find("\"kind\":\"run\""), std::string::npos);
     ASSERT_EQ(report["scenarios"].size(), 4u);  // seed-2d, seed-3d and their per-contact variants
     for (const auto& sc : report["scenarios"]) {
         ASSERT_GE(sc["simulators"].size(), 2u);
@@ -133,6 +136,91 @@ TEST(Cli, ListShowsBundledScenariosAndSimulators) {
     ASSERT_EQ(r.status, 0);
     for (const char* name : {"seed-2d", "seed-3d", "reference", "exact"})
         EXPECT_NE(r.output.find(name), std::string::npos) << name;
+}
+
+}  // namespace
+
+namespace {
+
+// Ctrl-C in the middle of writing trajectories: the process dies of SIGINT,
+// leaves no temporary file, and every output file present is complete.
+TEST(Cli, InterruptLeavesNoHalfWrittenFile) {
+    const fs::path out = fresh_dir("interrupt");
+    fs::create_directories(out);
+    // Long enough (1e6 steps) that the run is still writing when interrupted.
+    std::string scenario = slurp(kScenarios + "/seed-2d.toml");
+    scenario.replace(scenario.find("duration = 50.0"), 15, "duration = 30000.0");
+    std::ofstream(out / "long.toml") << scenario;
+
+    const std::string out_dir = (out / "o").string(), file = (out / "long.toml").string();
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        ::execl(BOUNCECHECK_CLI, BOUNCECHECK_CLI, "run", file.c_str(), "--engines", "reference,exact",
+                "--trajectories", "--out", out_dir.c_str(), static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+    // Interrupt once the first trajectory file is being written.
+    for (int i = 0; i < 400; ++i) {
+        bool writing = false;
+        std::error_code ec;
+        for (const auto& e : fs::recursive_directory_iterator(out / "o", ec))
+            writing = writing || e.path().string().find(".tmp.") != std::string::npos;
+        if (writing) break;
+        ::usleep(10'000);
+    }
+    ::kill(pid, SIGINT);
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(WIFSIGNALED(status)) << "the run finished before the interrupt: make it longer";
+    EXPECT_EQ(WTERMSIG(status), SIGINT);
+
+    for (const auto& e : fs::recursive_directory_iterator(out / "o")) {
+        EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << "left behind: " << e.path();
+        if (e.path().extension() == ".csv") {
+            // A complete trajectory: 1,000,001 rows after the header, the last one whole.
+            std::ifstream in(e.path());
+            std::string line, last;
+            std::size_t rows = 0;
+            while (std::getline(in, line)) ++rows, last = line;
+            EXPECT_EQ(rows, 1'000'002u) << e.path();
+        }
+    }
+    fs::remove_all(out);
+}
+
+}  // namespace
+
+namespace {
+
+// FNV-1a of every file under `dir`, by relative path.
+std::map<std::string, std::uint64_t> digests(const fs::path& dir) {
+    std::map<std::string, std::uint64_t> out;
+    for (const auto& e : fs::recursive_directory_iterator(dir)) {
+        if (!e.is_regular_file()) continue;
+        std::uint64_t h = 1469598103934665603ull;
+        for (unsigned char c : slurp(e.path())) h = (h ^ c) * 1099511628211ull;
+        out[fs::relative(e.path(), dir).string()] = h;
+    }
+    return out;
+}
+
+// Determinism: the same input gives the same bytes in every output file
+// (reports, page, trajectories) on every run, once wall-clock times are left out.
+TEST(Cli, SameInputSameOutputBits) {
+    const fs::path a = fresh_dir("det-a"), b = fresh_dir("det-b");
+    for (const fs::path& dir : {a, b}) {
+        const CliResult r = bouncecheck("run --no-timings --trajectories --out " + dir.string());
+        ASSERT_EQ(r.status, 0) << r.output;
+    }
+    const auto da = digests(a), db = digests(b);
+    EXPECT_GE(da.size(), 5u + 4 * 4);  // five reports, and four scenarios' trajectories at least
+    EXPECT_EQ(da, db);
+    // And no wall-clock figure slipped in.
+    const auto report = nlohmann::json::parse(slurp(a / "report.json"));
+    for (const auto& sim : report["scenarios"][0]["simulators"]) EXPECT_TRUE(sim["run_seconds"].is_null());
+    fs::remove_all(a);
+    fs::remove_all(b);
 }
 
 }  // namespace

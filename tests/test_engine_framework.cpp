@@ -59,11 +59,13 @@ public:
     std::string_view description() const override { return "test stand-in"; }
     EngineCapabilities capabilities() const override { return caps_; }
     mutable int steps = 0;
+    mutable double built_dt = 0;
 
 protected:
     std::unique_ptr<EngineWorld> build(const Scenario& s, const EngineOptions&,
                                        std::vector<SimulatorSummary::Setting>& settings) const override {
         settings.push_back({"gravity", "scenario's", "test"});
+        built_dt = s.dt;
         struct World final : EngineWorld {
             World(const Scenario& s, const FakeEngine& e) : state{0, s.position, s.velocity}, dt(s.dt), engine(e) {}
             void step() override {
@@ -96,8 +98,23 @@ TEST(EngineSimulator, SharedLoopStepsOnTheDocumentClock) {
         EXPECT_EQ(st.t, clock.t());
         clock.advance();
     }
-    ASSERT_EQ(r.settings.size(), 1u);
+    ASSERT_EQ(r.settings.size(), 2u);
     EXPECT_EQ(r.settings[0].key, "gravity");
+    EXPECT_EQ(r.settings[1].key, "substeps");
+    EXPECT_EQ(r.settings[1].value, "1 engine step of 0.03 s per scenario step");
+}
+
+TEST(EngineSimulator, SubstepsStepAWorldBuiltForTheShorterStep) {
+    Scenario s = seed3d();
+    s.engines["ode"].substeps = 3;  // the fake engine is named "ode"
+    const FakeEngine engine;
+    const SimulatorSummary r = engine.run(s, nullptr);
+    EXPECT_EQ(r.status, RunStatus::ok);
+    EXPECT_EQ(r.steps, document_step_count(s.dt, s.duration));  // states on the scenario's clock
+    EXPECT_EQ(engine.steps, 3 * r.steps);
+    EXPECT_EQ(engine.built_dt, s.dt / 3);
+    ASSERT_EQ(r.settings.size(), 2u);
+    EXPECT_EQ(r.settings[1].value, "3 engine steps of 0.01 s per scenario step");
 }
 
 TEST(EngineSimulator, NonFiniteStateFailsTheRunAndStopsStepping) {

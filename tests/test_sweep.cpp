@@ -119,6 +119,22 @@ TEST(SweepOrder, FitsAKnownSlope) {
     EXPECT_FALSE(fit_order(rows, "y").order);
 }
 
+TEST(SweepPareto, KeepsTheRowsNoOtherBeatsOnBothCostAndError) {
+    // (cost, error): (1, 10) front; (2, 5) front; (3, 5) dominated by (2, 5);
+    // (4, 1) front; (0.5, 20) front; a failed row and a zero-error row are never on it.
+    std::vector<SweepRow> rows;
+    const double points[][2] = {{1, 10}, {2, 5}, {3, 5}, {4, 1}, {0.5, 20}, {0.1, 0.1}, {0.1, 0}};
+    for (const auto& p : points) {
+        SweepRow row;
+        row.engine = "x";
+        row.sec_per_sim_sec = p[0];
+        row.error = p[1];
+        rows.push_back(row);
+    }
+    rows[5].status = RunStatus::failed;
+    EXPECT_EQ(pareto_front(rows), (std::vector<bool>{true, true, false, true, true, false, false}));
+}
+
 TEST(SweepParallel, ResultsDoNotDependOnJobs) {
     const Scenario s = load_scenario(kScenarios + "/seed-2d.toml");
     auto all = built_simulators();
@@ -242,6 +258,11 @@ TEST(SweepCli, WritesCsvAndJson) {
     EXPECT_EQ(json["rows"].size(), 4u);
     EXPECT_EQ(json["orders"].size(), 2u);
     EXPECT_EQ(json["parameters"]["repeat"], 1);
+    for (const auto& row : json["rows"]) EXPECT_TRUE(row["pareto"].is_boolean());
+    // The plot page, self-contained (its rendering: tests/browser/check_pages.sh).
+    const std::string html = test::slurp(out / "sweep.html");
+    EXPECT_NE(html.find("\"kind\":\"sweep\""), std::string::npos);
+    EXPECT_EQ(html.find("src=\"http"), std::string::npos);
     fs::remove_all(out);
 }
 

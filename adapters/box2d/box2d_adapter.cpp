@@ -126,7 +126,8 @@ public:
         world_ = std::make_unique<b2World>(b2Vec2(static_cast<float>(scale.to_engine_acceleration(s.gravity.x())),
                                                   static_cast<float>(scale.to_engine_acceleration(s.gravity.y()))));
         world_->SetAllowSleeping(t.allow_sleep);
-        world_->SetContinuousPhysics(t.continuous);
+        const bool continuous = options.ccd.value_or(t.continuous);
+        world_->SetContinuousPhysics(continuous);
         world_->SetSubStepping(false);
         world_->SetWarmStarting(t.warm_starting);
 
@@ -209,8 +210,8 @@ public:
             "b2_linearSlop (5 mm), b2_polygonRadius (1 cm) and the TOI target (3 slop) are compile-time "
             "lengths tuned for metre-sized bodies; at scale 1 they are 10-30% of the 5 cm ball. Lengths, "
             "speeds and gravity scale together (the law is scale-free); time is not scaled");
-        set("time_scale", fmt::format("{}", scale.time), "one Step(dt) per scenario step, dt unchanged");
-        set("dt_engine", fmt::format("{} (float)", dt_), "b2World::Step called exactly once per scenario step");
+        set("time_scale", fmt::format("{}", scale.time), "one Step(dt) per engine step, dt unchanged");
+        set("dt_engine", fmt::format("{} (float)", dt_), "b2World::Step called once per engine step (see substeps)");
         set("restitution", fmt::format("ball {} walls {}", alpha, wall_restitution),
             "effective restitution must be alpha; b2MixRestitution is max(ball, wall)");
         set("friction", fmt::format("ball {} walls {}", mu, wall_friction),
@@ -245,9 +246,10 @@ public:
         set("sleeping", t.allow_sleep ? "on" : "off (world and body)",
             "Box2D default on: a body slower than b2_linearSleepTolerance for b2_timeToSleep (0.5 s) freezes "
             "while the law still micro-bounces");
-        set("continuous", t.continuous ? "on (TOI against static walls; bullet flag off, sub-stepping off)" : "off",
-            "the bounce is resolved at the time of impact inside the step instead of one step late, "
-            "penetration limited to ~3 b2_linearSlop");
+        set("ccd", continuous ? "on (TOI against static walls; bullet flag off, sub-stepping off)" : "off",
+            options.ccd ? "scenario [engines.box2d] ccd"
+                        : "the bounce is resolved at the time of impact inside the step instead of one step late, "
+                          "penetration limited to ~3 b2_linearSlop");
         set("velocity_iterations", fmt::format("{}", velocity_iterations_),
             "friction is capped by the normal impulse of the previous iteration: 1 iteration means no "
             "friction at a new contact; one contact converges in 2-3, 8 is ample");

@@ -269,7 +269,9 @@ private:
         add("stepper", tuning_.stepper == Stepper::world_step ? "dWorldStep" : fmt::format("dWorldQuickStep ({} iterations)", tuning_.quick_step_iterations),
             "exact Dantzig LCP: measured restitution alpha to round-off; QuickStep's 20 SOR iterations give 0.79999999994. "
             "One body: the exact solve costs ~1 us per step");
-        add("steps_per_dt", "1", "one dWorldStep(world, dt) per scenario step, no substeps");
+        add("dt_engine", num(h_), "one dWorldStep of this per engine step (see substeps)");
+        add("ccd", "none", "ODE has no continuous collision detection: a step's travel beyond the radius is found "
+                           "as overlap with the half-space planes; substeps shorten the travel");
         add("axes", s.dim == 3 ? "scenario (x, y, z) = ODE (x, y, z)" : "scenario (x, y) = ODE (x, y); ODE z locked by dJointCreatePlane2D",
             s.dim == 3 ? "ODE is 3D" : "ODE's planar joint keeps a body in its x-y plane (z = 0, rotation about z only), so the vertical is ODE's y");
         add("collision", fmt::format("dSimpleSpace, sphere geom vs {} static planes, dSpaceCollide near callback, dCollide up to {} points per pair", walls_.size(), tuning_.max_contacts),

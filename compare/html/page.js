@@ -1,0 +1,322 @@
+// The script of report.html and sweep.html. It builds every table and plot
+// from the JSON in #bouncecheck-data (written by compare/html_report.cpp or
+// compare/sweep.cpp) with the inlined Plotly. It asks no server for anything.
+//
+// Each plot is a div with class "plot" and data-plot-kind; the browser test
+// (web/test/browser-check.mjs) checks each one's trace count against
+// report.json, so the trace layout below is a contract:
+//   path        one line per simulator that ran, plus the room
+//   height      per simulator that ran, its line and its contact markers
+//   apex        per simulator that ran except exact, its bars; plus exact's markers
+//   divergence  per simulator that ran except reference
+//   error       per simulator that ran except exact
+//   normal      per simulator that ran, plus the alpha line
+//   tangential  per simulator that ran, plus the beta line
+//   (sweep.html) work-precision: per simulator, plus the Pareto front
+"use strict";
+
+(function () {
+  const data = JSON.parse(document.getElementById("bouncecheck-data").textContent);
+  const page = document.getElementById("page");
+
+  const NAMED_COLOURS = { reference: "#222222", exact: "#8c8c8c", bullet: "#1f77b4", ode: "#ff7f0e", box2d: "#2ca02c" };
+  const PALETTE = ["#d62728", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22"];
+  const assigned = {};
+  function colour(name) {
+    const base = name.split(" ")[0];
+    if (NAMED_COLOURS[base]) return NAMED_COLOURS[base];
+    if (!(base in assigned)) assigned[base] = PALETTE[Object.keys(assigned).length % PALETTE.length];
+    return assigned[base];
+  }
+
+  // ------------------------------------------------------------ DOM helpers
+
+  function el(tag, attrs, children) {
+    const node = document.createElement(tag);
+    for (const [k, v] of Object.entries(attrs || {})) node.setAttribute(k, v);
+    for (const child of [].concat(children === undefined ? [] : children)) {
+      node.appendChild(typeof child === "string" || typeof child === "number" ? document.createTextNode(String(child)) : child);
+    }
+    return node;
+  }
+
+  // cells: strings, or {text, cls} for a coloured verdict.
+  function table(headers, rows, cls) {
+    const head = el("thead", {}, el("tr", {}, headers.map((h) => el("th", {}, h))));
+    const body = el("tbody", {}, rows.map((cells) => el("tr", {}, cells.map((c) =>
+      c !== null && typeof c === "object" ? el("td", { class: c.cls || "" }, c.text) : el("td", {}, c === null ? "-" : String(c))))));
+    return el("table", { class: cls || "" }, [head, body]);
+  }
+
+  function num(v, digits) {
+    if (v === null || v === undefined || Number.isNaN(v)) return "-";
+    return Number(v).toPrecision(digits || 4);
+  }
+  function percent(v) { return v === null || v === undefined ? "-" : (100 * v).toFixed(2) + " %"; }
+  function vec(v) { return "(" + v.map((x) => num(x, 4)).join(", ") + ")"; }
+  function positive(values) { return values.map((v) => (v !== null && v > 0 ? v : null)); }
+
+  // ------------------------------------------------------------ plots
+
+  const CONFIG = { displaylogo: false, responsive: true };
+
+  function addPlot(grid, id, kind, title, traces, layout, wide) {
+    const div = el("div", { id: id, class: "plot" + (wide ? " wide" : ""), "data-plot-kind": kind });
+    grid.appendChild(div);
+    const base = {
+      title: { text: title, font: { size: 14 } },
+      margin: { l: 60, r: 20, t: 40, b: 45 },
+      legend: { orientation: "h", y: -0.2 },
+      hovermode: "closest",
+    };
+    Plotly.newPlot(div, traces, Object.assign(base, layout || {}), CONFIG);
+  }
+
+  function axisTitle(text, extra) { return Object.assign({ title: { text: text } }, extra || {}); }
+
+  const AXES = ["x", "y", "z"];
+
+  function roomTrace2d(room) {
+    return { x: [0, room[0], room[0], 0, 0], y: [0, 0, room[1], room[1], 0], mode: "lines", name: "room",
+             line: { color: "#999", width: 1 }, hoverinfo: "skip" };
+  }
+
+  function roomTrace3d(room) {
+    const [a, b, c] = room;
+    const corners = [[0, 0, 0], [a, 0, 0], [a, b, 0], [0, b, 0], [0, 0, c], [a, 0, c], [a, b, c], [0, b, c]];
+    const edges = [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4], [0, 4], [1, 5], [2, 6], [3, 7]];
+    const t = { x: [], y: [], z: [], type: "scatter3d", mode: "lines", name: "room",
+                line: { color: "#999", width: 2 }, hoverinfo: "skip" };
+    for (const [i, j] of edges) {
+      for (const k of [i, j]) { t.x.push(corners[k][0]); t.y.push(corners[k][1]); t.z.push(corners[k][2]); }
+      t.x.push(null); t.y.push(null); t.z.push(null);
+    }
+    return t;
+  }
+
+  function pathPlot(grid, id, scenario, ran) {
+    const room = scenario.room;
+    if (scenario.dim === 2) {
+      const traces = ran.map((s) => ({ x: s.plot.path.x, y: s.plot.path.y, mode: "lines", name: s.name,
+                                       line: { color: colour(s.name), width: 1.5 } }));
+      traces.push(roomTrace2d(room));
+      addPlot(grid, id, "path", "Path of the ball's centre", traces, {
+        xaxis: axisTitle("x (m)", { range: [-0.02 * room[0], 1.02 * room[0]], constrain: "domain" }),
+        yaxis: axisTitle("y (m)", { scaleanchor: "x", range: [-0.02 * room[1], 1.02 * room[1]] }),
+      });
+      return;
+    }
+    const traces = ran.map((s) => ({ x: s.plot.path.x, y: s.plot.path.y, z: s.plot.path.z, type: "scatter3d",
+                                     mode: "lines", name: s.name, line: { color: colour(s.name), width: 3 } }));
+    traces.push(roomTrace3d(room));
+    addPlot(grid, id, "path", "Path of the ball's centre (drag to rotate)", traces, {
+      scene: {
+        aspectmode: "data",
+        xaxis: { title: { text: "x (m)" }, range: [0, room[0]] },
+        yaxis: { title: { text: "y (m)" }, range: [0, room[1]] },
+        zaxis: { title: { text: "z (m)" }, range: [0, room[2]] },
+        camera: { eye: { x: 1.25, y: -1.25, z: 0.7 } },
+      },
+      margin: { l: 0, r: 0, t: 40, b: 0 },
+    }, true);
+  }
+
+  function heightPlot(grid, id, scenario, vertical, ran) {
+    const traces = [];
+    for (const s of ran) {
+      traces.push({ x: s.plot.path.t, y: s.plot.path[AXES[vertical]], mode: "lines", name: s.name, legendgroup: s.name,
+                    line: { color: colour(s.name), width: 1.5 } });
+      traces.push({ x: s.plot.contacts.t, y: s.plot.contacts.height, text: s.plot.contacts.wall, mode: "markers",
+                    name: s.name + " contacts", legendgroup: s.name, showlegend: false,
+                    marker: { color: colour(s.name), size: 6, symbol: "circle-open" },
+                    hovertemplate: "%{text} wall at t = %{x:.4f} s<extra>" + s.name + "</extra>" });
+    }
+    addPlot(grid, id, "height", "Vertical coordinate against time (circles: contacts)", traces, {
+      xaxis: axisTitle("t (s)"), yaxis: axisTitle(AXES[vertical] + " of the centre (m)"),
+    }, true);
+  }
+
+  function apexPlot(grid, id, scenario, plots, ran) {
+    const shown = 12;
+    const traces = [];
+    for (const s of ran) {
+      if (s.name === "exact") continue;
+      const heights = (s.result.apexes || []).slice(0, shown).map((a) => a.height);
+      traces.push({ type: "bar", x: heights.map((_, i) => i + 1), y: heights, name: s.name,
+                    marker: { color: colour(s.name) } });
+    }
+    const exact = plots.exact_apexes.height.slice(0, shown);
+    traces.push({ x: exact.map((_, i) => i + 1), y: exact, mode: "markers", name: "exact",
+                  marker: { color: "#000", symbol: "diamond", size: 9 } });
+    const all = traces.flatMap((t) => t.y).filter((v) => v !== null);
+    const low = all.length ? Math.min(...all) : 0, high = all.length ? Math.max(...all) : 1;
+    addPlot(grid, id, "apex", "Apex height per bounce", traces, {
+      barmode: "group",
+      xaxis: axisTitle("apex", { dtick: 1 }),
+      yaxis: axisTitle("centre height at the apex (m)", { range: [Math.max(0, low - 0.1 * (high - low) - 1e-3), high + 0.05 * (high - low) + 1e-3] }),
+    });
+  }
+
+  function distancePlot(grid, id, kind, title, ran, skip, field) {
+    const traces = ran.filter((s) => s.name !== skip).map((s) => ({
+      x: s.plot[field].t, y: positive(s.plot[field].d), mode: "lines", name: s.name,
+      line: { color: colour(s.name), width: 1.5 } }));
+    addPlot(grid, id, kind, title, traces, {
+      xaxis: axisTitle("t (s)"), yaxis: axisTitle("centre distance (m)", { type: "log", exponentformat: "power" }),
+    });
+  }
+
+  function dampingPlot(grid, id, kind, title, scenario, ran, field, lawName, lawValue) {
+    const traces = ran.map((s) => ({ x: s.plot.damping.t, y: s.plot.damping[field], mode: "markers", name: s.name,
+                                     marker: { color: colour(s.name), size: 7, opacity: 0.8 } }));
+    traces.push({ x: [0, scenario.duration], y: [lawValue, lawValue], mode: "lines", name: lawName + " = " + lawValue,
+                  line: { color: "#000", dash: "dash", width: 1 } });
+    addPlot(grid, id, kind, title, traces, {
+      xaxis: axisTitle("contact time (s)"), yaxis: axisTitle("measured " + lawName),
+    });
+  }
+
+  // ------------------------------------------------------------ run report
+
+  function verdict(result) {
+    if (result.status === "skipped") return { text: "skipped", cls: "skip" };
+    if (result.status === "failed") return { text: "failed", cls: "fail" };
+    const c = result.comparison;
+    if (!c) return { text: "ok", cls: "" };
+    const failed = c.thresholds.filter((t) => !t.passed).length;
+    if (c.thresholds.length === 0) return { text: "no threshold set", cls: "" };
+    return failed ? { text: failed + " of " + c.thresholds.length + " exceeded", cls: "fail" }
+                  : { text: "all " + c.thresholds.length + " held", cls: "pass" };
+  }
+
+  function overviewRow(scenarioName, r) {
+    const c = r.comparison;
+    const damping = !c ? "-" : { text: c.damping.verdict, cls: c.damping.reproduces ? "pass" : "warn" };
+    return [
+      scenarioName, r.simulator,
+      r.status === "ok" ? "ok" : { text: r.status + (r.reason ? ": " + r.reason : ""), cls: r.status === "failed" ? "fail" : "skip" },
+      c && c.vs_reference.bounces.length ? percent(c.vs_reference.bounce_height_rel_max) : "-",
+      c && c.vs_reference.trajectory.samples ? num(c.vs_reference.trajectory.rms, 3) : "-",
+      c && c.vs_exact.trajectory.samples ? num(c.vs_exact.trajectory.rms, 3) : "-",
+      c && c.damping.contacts ? num(c.damping.normal_mean, 4) : "-",
+      c && c.damping.tangential_contacts ? num(c.damping.tangential_mean, 4) : "-",
+      damping, verdict(r),
+    ];
+  }
+
+  function renderRun() {
+    const report = data.report;
+    const results = report.scenarios.flatMap((s) => s.simulators);
+    const failed = results.filter((r) => r.status === "failed").length;
+    const exceeded = results.filter((r) => r.comparison && !r.comparison.passed).length;
+    const overall = failed ? { text: failed + " simulator(s) failed", cls: "fail" }
+      : exceeded ? { text: exceeded + " simulator run(s) exceeded a threshold", cls: "fail" }
+      : { text: "every threshold held", cls: "pass" };
+
+    page.appendChild(el("h1", {}, "bouncecheck report"));
+    page.appendChild(el("p", { class: "lede" }, [
+      el("span", { class: "badge " + overall.cls, id: "overall" }, overall.text), " ",
+      report.scenarios.length + " scenario(s), bouncecheck " + report.bouncecheck_version +
+      ". Divergence is measured against the reference (the document's model, bit for bit), error against exact (its continuous-time solution)."]));
+    const rows = report.scenarios.flatMap((s) => s.simulators.map((r) => overviewRow(s.scenario.name, r)));
+    page.appendChild(table(["scenario", "simulator", "status", "Δ apex vs reference", "RMS vs reference (m)",
+                            "RMS vs exact (m)", "measured alpha", "measured beta", "damping", "thresholds"], rows, "overview"));
+
+    report.scenarios.forEach((entry, index) => renderScenario(entry, data.plots[index], index));
+  }
+
+  function renderScenario(entry, plots, index) {
+    const s = entry.scenario;
+    const section = el("section", { class: "scenario", id: "scenario-" + index });
+    page.appendChild(section);
+    section.appendChild(el("h2", {}, s.name));
+    section.appendChild(el("p", { class: "params" },
+      s.dim + "D, room " + vec(s.room) + " m, radius " + num(s.radius) + " m, start " + vec(s.position) +
+      " m, velocity " + vec(s.velocity) + " m/s, gravity " + vec(s.gravity) + " m/s², alpha " + s.alpha +
+      ", beta " + s.beta + ", dt " + s.dt + " s, duration " + s.duration + " s (" + s.file + ")"));
+
+    // Simulators that ran (ok or failed) and have a recorded plot, in the report's order.
+    const ran = [];
+    entry.simulators.forEach((r, i) => {
+      const plot = plots && plots.simulators[i];
+      if (r.status !== "skipped" && plot) ran.push({ name: r.simulator, result: r, plot: plot });
+    });
+    const grid = el("div", { class: "grid" });
+    section.appendChild(grid);
+    const id = (kind) => "plot-" + index + "-" + kind;
+    if (plots) {
+      pathPlot(grid, id("path"), s, ran);
+      apexPlot(grid, id("apex"), s, plots, ran);
+      heightPlot(grid, id("height"), s, plots.vertical, ran);
+      distancePlot(grid, id("divergence"), "divergence", "Divergence from the reference (largest per window)", ran, "reference", "divergence");
+      distancePlot(grid, id("error"), "error", "Error against exact (largest per window)", ran, "exact", "error");
+      dampingPlot(grid, id("normal"), "normal", "Normal coefficient per contact", s, ran, "normal", "alpha", s.alpha);
+      dampingPlot(grid, id("tangential"), "tangential", "Tangential retention per contact", s, ran, "tangential", "beta", s.beta);
+      section.appendChild(el("p", { class: "note" },
+        "Contacts measured for damping: before the simulator's rest and faster than 30 |g| dt, as the damping verdict counts them."));
+    }
+
+    const checks = entry.simulators.flatMap((r) => (r.comparison ? r.comparison.thresholds : []).map((t) => [
+      r.simulator, t.metric, num(t.measured, 4), num(t.limit, 4), t.passed ? { text: "held", cls: "pass" } : { text: "exceeded", cls: "fail" }]));
+    section.appendChild(el("h3", {}, "Threshold verdicts"));
+    section.appendChild(checks.length ? table(["simulator", "metric", "measured", "limit", "verdict"], checks)
+                                      : el("p", {}, "No threshold is set for this scenario."));
+
+    const notRun = entry.simulators.filter((r) => r.status !== "ok");
+    if (notRun.length) {
+      section.appendChild(el("h3", {}, "Skipped and failed simulators"));
+      section.appendChild(table(["simulator", "status", "reason"], notRun.map((r) => [r.simulator, { text: r.status, cls: r.status === "failed" ? "fail" : "skip" }, r.reason || "-"])));
+    }
+
+    const withSettings = entry.simulators.filter((r) => r.settings && r.settings.length);
+    if (withSettings.length) {
+      section.appendChild(el("h3", {}, "Engine settings"));
+      for (const r of withSettings) {
+        section.appendChild(el("details", {}, [
+          el("summary", {}, r.simulator + " (" + r.settings.length + " settings)"),
+          table(["setting", "value", "why"], r.settings.map((st) => [st.key, st.value, st.why]), "settings")]));
+      }
+    }
+  }
+
+  // ------------------------------------------------------------ sweep report
+
+  function renderSweep() {
+    const sweep = data.sweep;
+    page.appendChild(el("h1", {}, "bouncecheck sweep: " + sweep.scenario));
+    page.appendChild(el("p", { class: "lede" },
+      "Error: " + sweep.error_metric + ". Cost: run time per simulated second, the fastest of " +
+      sweep.parameters.repeat + " timed run(s) that record nothing. Each simulator ran at every dt; its convergence " +
+      "order is the least-squares slope of log error against log dt. Circled: the Pareto front (no other run is both cheaper and more accurate)."));
+    const byEngine = {};
+    for (const row of sweep.rows) (byEngine[row.engine] = byEngine[row.engine] || []).push(row);
+    const usable = (r) => r.status === "ok" && r.error > 0 && r.sec_per_sim_sec > 0;
+    const traces = Object.entries(byEngine).map(([name, rows]) => {
+      const ok = rows.filter(usable);
+      return { x: ok.map((r) => r.sec_per_sim_sec), y: ok.map((r) => r.error), text: ok.map((r) => "dt = " + r.dt),
+               mode: "lines+markers", name: name, line: { color: colour(name) },
+               hovertemplate: "%{text}<br>cost %{x:.3g} s/s<br>error %{y:.3g} m<extra>" + name + "</extra>" };
+    });
+    const front = sweep.rows.filter((r) => r.pareto).sort((a, b) => a.sec_per_sim_sec - b.sec_per_sim_sec);
+    traces.push({ x: front.map((r) => r.sec_per_sim_sec), y: front.map((r) => r.error),
+                  text: front.map((r) => r.engine + ", dt = " + r.dt), mode: "lines+markers", name: "Pareto front",
+                  line: { color: "#000", dash: "dot", width: 1 }, marker: { symbol: "circle-open", size: 16, color: "#000" },
+                  hovertemplate: "%{text}<extra>Pareto front</extra>" });
+    const grid = el("div", { class: "grid" });
+    page.appendChild(grid);
+    addPlot(grid, "plot-sweep-work-precision", "work-precision", "Work-precision: error against cost", traces, {
+      xaxis: axisTitle("cost (s of run time per simulated s)", { type: "log", exponentformat: "power" }),
+      yaxis: axisTitle("error against exact (m)", { type: "log", exponentformat: "power" }),
+    }, true);
+    page.appendChild(el("h3", {}, "Observed convergence orders"));
+    page.appendChild(table(["simulator", "fitted order", "dts in the fit"],
+      sweep.orders.map((o) => [o.engine, o.order === null ? "-" : num(o.order, 3), String(o.points)])));
+    page.appendChild(el("h3", {}, "Every run"));
+    page.appendChild(table(["simulator", "dt (s)", "status", "error (m)", "bounce error", "ns per step", "cost (s/s)", "Pareto"],
+      sweep.rows.map((r) => [r.engine, String(r.dt),
+                             r.status === "ok" ? "ok" : { text: r.status + (r.reason ? ": " + r.reason : ""), cls: r.status === "failed" ? "fail" : "skip" },
+                             num(r.error, 3), num(r.bounce_error, 3), num(r.ns_per_step, 3), num(r.sec_per_sim_sec, 3), r.pareto ? "yes" : ""])));
+  }
+
+  if (data.kind === "sweep") renderSweep(); else renderRun();
+})();

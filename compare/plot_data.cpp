@@ -1,0 +1,123 @@
+#include "compare/plot_data.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace bouncecheck {
+
+std::int64_t expected_states(const Scenario& s) {
+    // An estimate is enough for a stride: the document's clock can take one
+    // step more or fewer than duration / dt.
+    const double steps = std::ceil(std::abs(s.duration / s.dt));
+    if (!std::isfinite(steps) || steps > 1e15) return std::numeric_limits<std::int64_t>::max() / 2;
+    return static_cast<std::int64_t>(steps) + 1;
+}
+
+namespace {
+
+std::int64_t stride_for(std::int64_t states, std::size_t budget) {
+    const std::int64_t b = std::max<std::int64_t>(1, static_cast<std::int64_t>(budget));
+    return std::max<std::int64_t>(1, (states + b - 1) / b);
+}
+
+bool reverses(const Vec3& before, const Vec3& after) {
+    for (int i = 0; i < 3; ++i)
+        if ((before[i] > 0 && after[i] <= 0) || (before[i] < 0 && after[i] >= 0)) return true;
+    return false;
+}
+
+}  // namespace
+
+TraceDecimator::TraceDecimator(std::int64_t expected, std::size_t budget) : stride_(stride_for(expected, budget)) {}
+
+void TraceDecimator::keep(const State& s) {
+    trace_.t.push_back(s.t);
+    trace_.p.push_back(s.p);
+}
+
+void TraceDecimator::write(const State& s) {
+    const bool turning = previous_ && turning_points_ < kPlotTurningPoints && reverses(previous_->v, s.v);
+    if (turning) {
+        // The state before the reversal too: the path's corner lies between them.
+        if (!previous_kept_) keep(*previous_);
+        turning_points_ += 2;
+    }
+    const bool kept = turning || index_ % stride_ == 0;
+    if (kept) keep(s);
+    previous_ = s;
+    previous_kept_ = kept;
+    ++index_;
+}
+
+PlotTrace TraceDecimator::finish() {
+    if (previous_ && !previous_kept_) keep(*previous_);
+    previous_kept_ = true;
+    return trace_;
+}
+
+void WindowMaxSeries::add(double t, double value) {
+    if (in_window_ == 0 || value > window_max_) {
+        window_max_ = value;
+        window_t_ = t;
+    }
+    if (++in_window_ == stride_) {
+        t_.push_back(window_t_);
+        v_.push_back(window_max_);
+        in_window_ = 0;
+    }
+}
+
+std::vector<double> WindowMaxSeries::times() const {
+    std::vector<double> out = t_;
+    if (in_window_ > 0) out.push_back(window_t_);
+    return out;
+}
+
+std::vector<double> WindowMaxSeries::values() const {
+    std::vector<double> out = v_;
+    if (in_window_ > 0) out.push_back(window_max_);
+    return out;
+}
+
+PlotTrace exact_plot_trace(const ExactModel& exact, const Scenario& s, std::size_t budget) {
+    // Events first: resolved contacts (where the ball touched) and apexes.
+    std::vector<std::pair<double, Vec3>> events;
+    for (const Contact& c : exact.contacts()) {
+        if (events.size() >= kPlotTurningPoints) break;
+        events.emplace_back(c.t, c.p);
+    }
+    for (const Apex& a : exact.apexes()) {
+        if (events.size() >= 2 * kPlotTurningPoints) break;
+        events.emplace_back(a.t, exact.state_at(a.t).p);
+    }
+    std::sort(events.begin(), events.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+
+    const std::int64_t stride = stride_for(expected_states(s), budget);
+    PlotTrace trace;
+    std::size_t next_event = 0;
+    std::int64_t index = 0;
+    State last;
+    bool last_kept = false;
+    exact.sample_document_clock([&](const State& st) {
+        while (next_event < events.size() && events[next_event].first < st.t) {
+            trace.t.push_back(events[next_event].first);
+            trace.p.push_back(events[next_event].second);
+            ++next_event;
+        }
+        last_kept = index % stride == 0;
+        if (last_kept) {
+            trace.t.push_back(st.t);
+            trace.p.push_back(st.p);
+        }
+        last = st;
+        ++index;
+    });
+    if (!last_kept && index > 0) {
+        trace.t.push_back(last.t);
+        trace.p.push_back(last.p);
+    }
+    return trace;
+}
+
+}  // namespace bouncecheck

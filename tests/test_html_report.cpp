@@ -1,0 +1,146 @@
+// report.html's data: the decimated traces keep every bounce, the distance
+// series keep every spike, exact's path has its contacts at their instants,
+// and the page is self-contained and parses back to the run's numbers.
+// (Rendering in a real browser: tests/browser/check_pages.sh.)
+#include "compare/plot_data.h"
+#include "compare/report.h"
+#include "compare/run.h"
+#include "compare/web_assets.h"
+#include "reference/exact_model.h"
+#include "reference/simulators.h"
+#include "scenarios/loader.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <unistd.h>
+#include <string>
+
+namespace bouncecheck {
+namespace {
+
+Scenario seed(const char* name) { return load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/" + name); }
+
+// Every state of a simulator, in memory.
+struct AllStates final : StateSink {
+    std::vector<State> states;
+    void write(const State& s) override { states.push_back(s); }
+};
+
+TEST(TraceDecimator, KeepsEveryVerticalReversalWithinTheBudget) {
+    const Scenario s = seed("seed-3d.toml");
+    AllStates all;
+    TraceDecimator decimator(expected_states(s), 100);
+    TeeSink both{&all, &decimator};
+    make_reference_simulator()->run(s, &both);
+    const PlotTrace trace = decimator.finish();
+
+    // Fewer points than states, but every floor contact (vertical velocity
+    // turning from down to up) is in the trace at its sample's time.
+    ASSERT_GT(all.states.size(), 1000u);
+    EXPECT_LT(trace.size(), all.states.size() / 2);
+    int reversals = 0;
+    for (std::size_t i = 1; i < all.states.size(); ++i) {
+        if (!(all.states[i - 1].v.z() < 0 && all.states[i].v.z() > 0)) continue;
+        ++reversals;
+        const auto it = std::find(trace.t.begin(), trace.t.end(), all.states[i].t);
+        ASSERT_NE(it, trace.t.end()) << "contact at t = " << all.states[i].t << " lost";
+        EXPECT_EQ(trace.p[static_cast<std::size_t>(it - trace.t.begin())], all.states[i].p);
+    }
+    EXPECT_GE(reversals, 10);
+    EXPECT_EQ(trace.t.front(), 0.0);
+    EXPECT_EQ(trace.t.back(), all.states.back().t);
+    EXPECT_TRUE(std::is_sorted(trace.t.begin(), trace.t.end()));
+}
+
+TEST(TraceDecimator, JitterDoesNotGrowTheTraceWithoutBound) {
+    // A velocity that reverses every step for a million steps.
+    TraceDecimator decimator(1'000'000, 600);
+    for (int i = 0; i < 1'000'000; ++i) {
+        State st;
+        st.t = i * 1e-3;
+        st.v = Vec3((i % 2) ? 1.0 : -1.0, 0, 0);
+        decimator.write(st);
+    }
+    const PlotTrace trace = decimator.finish();
+    EXPECT_LE(trace.size(), 600u + kPlotTurningPoints + 2);
+}
+
+TEST(WindowMaxSeries, KeepsTheLargestValueOfEachWindowWithItsTime) {
+    WindowMaxSeries series(4);
+    const double values[] = {1, 5, 2, 3, /**/ 0.5, 0.1, 9, 0.2, /**/ 7};
+    for (int i = 0; i < 9; ++i) series.add(i, values[i]);
+    EXPECT_EQ(series.times(), (std::vector<double>{1, 6, 8}));
+    EXPECT_EQ(series.values(), (std::vector<double>{5, 9, 7}));
+}
+
+TEST(ExactPlotTrace, HasEveryContactAtItsInstantAndPosition) {
+    const Scenario s = seed("seed-2d.toml");
+    const ExactModel exact(s);
+    const PlotTrace trace = exact_plot_trace(exact, s);
+    ASSERT_FALSE(exact.contacts().empty());
+    for (const Contact& c : exact.contacts()) {
+        const auto it = std::find(trace.t.begin(), trace.t.end(), c.t);
+        ASSERT_NE(it, trace.t.end()) << "contact at t = " << c.t;
+        EXPECT_EQ(trace.p[static_cast<std::size_t>(it - trace.t.begin())], c.p);
+    }
+    EXPECT_TRUE(std::is_sorted(trace.t.begin(), trace.t.end()));
+}
+
+// The data island of a page, parsed back.
+nlohmann::json page_data(const std::string& page) {
+    const std::string open = "<script id=\"bouncecheck-data\" type=\"application/json\">";
+    const auto begin = page.find(open);
+    EXPECT_NE(begin, std::string::npos);
+    const auto end = page.find("</script>", begin);
+    return nlohmann::json::parse(page.substr(begin + open.size(), end - begin - open.size()));
+}
+
+TEST(HtmlReport, IsSelfContainedAndCarriesTheRunsNumbers) {
+    Scenario s = seed("seed-2d.toml");
+    s.name = "a </script><script>alert(1)</script> name";  // must not end the data island
+    ScenarioRun run = run_scenario(s, RunRequest{{make_reference_simulator().get()}, {}, false, {}, true});
+    RunReport report;
+    report.scenarios.push_back(run);
+    const std::string page = to_html(report);
+
+    EXPECT_NE(page.find(plotly_js()), std::string::npos);
+    EXPECT_EQ(plotly_js().find("</script"), std::string_view::npos) << "the library would close its element";
+    EXPECT_GT(plotly_js().size(), 1'000'000u);
+    // Nothing is fetched: no external script, style or link.
+    EXPECT_EQ(page.find("src=\"http"), std::string::npos);
+    EXPECT_EQ(page.find("<link"), std::string::npos);
+
+    const nlohmann::json data = page_data(page);
+    EXPECT_EQ(data["kind"], "run");
+    EXPECT_EQ(data["report"]["scenarios"][0]["scenario"]["name"], s.name);
+    const nlohmann::json& sim = data["plots"][0]["simulators"][0];
+    EXPECT_EQ(sim["name"], "reference");
+    const PlotTrace& trace = run.plots[0]->path;
+    ASSERT_EQ(sim["path"]["t"].size(), trace.size());
+    // Seven significant digits of each coordinate.
+    for (std::size_t i = 0; i < trace.size(); i += 37)
+        EXPECT_NEAR(sim["path"]["y"][i].get<double>(), trace.p[i].y(), 1e-6 * std::abs(trace.p[i].y()) + 1e-300);
+    EXPECT_EQ(sim["contacts"]["t"].size(), std::min<std::size_t>(run.results[0].contact_events.size(), 500));
+    EXPECT_EQ(data["plots"][0]["exact_apexes"]["height"].size(), run.exact_apexes.size());
+}
+
+TEST(HtmlReport, IsWrittenOnlyWhenTheRunRecordedPlots) {
+    const Scenario s = seed("seed-2d.toml");
+    const auto dir = std::filesystem::temp_directory_path() / ("bouncecheck-html-" + std::to_string(::getpid()));
+    for (bool plots : {false, true}) {
+        std::filesystem::remove_all(dir);
+        std::filesystem::create_directories(dir);
+        RunReport report;
+        report.scenarios.push_back(run_scenario(s, RunRequest{{make_reference_simulator().get()}, dir, false, {}, plots}));
+        write_reports(report, dir);
+        EXPECT_EQ(std::filesystem::exists(dir / "report.html"), plots);
+    }
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace bouncecheck
