@@ -27,13 +27,16 @@ StreamContactDetector::StreamContactDetector(const Scenario& s)
 ContactMask StreamContactDetector::detect(const State& previous, const State& current) const {
     ContactMask mask;
     for (int i = 0; i < dim_; ++i) {
+        // A reversal first: on most steps there is none, and the distance
+        // test is not needed.
+        const bool reversed_down = previous.v[i] < -min_impact_speed_ && current.v[i] >= 0;
+        const bool reversed_up = previous.v[i] > min_impact_speed_ && current.v[i] <= 0;
+        if (!reversed_down && !reversed_up) continue;
         // Near enough to have touched during the step: one step of travel at
         // the incoming speed, plus a tenth of the radius for contact margins.
         const double reach = std::abs(previous.v[i]) * dt_ + 0.1 * radius_;
-        const bool near_lower = current.p[i] - radius_ <= reach;
-        const bool near_upper = room_[i] - radius_ - current.p[i] <= reach;
-        if (near_lower && previous.v[i] < -min_impact_speed_ && current.v[i] >= 0) mask.lower |= 1u << i;
-        if (near_upper && previous.v[i] > min_impact_speed_ && current.v[i] <= 0) mask.upper |= 1u << i;
+        if (reversed_down && current.p[i] - radius_ <= reach) mask.lower |= 1u << i;
+        if (reversed_up && room_[i] - radius_ - current.p[i] <= reach) mask.upper |= 1u << i;
     }
     return mask;
 }
@@ -66,16 +69,18 @@ SimulatorSummary EngineSimulator::run(const Scenario& s, StateSink* sink) const 
                                      substeps == 1 ? "" : "s", engine_scenario.dt),
              substeps == 1 ? "one engine step per scenario step (the document's step)"
                            : "scenario [engines.<name>] substeps: shorter engine steps against fast balls and large dt"});
-        State previous{0.0, s.position, s.velocity};
-        recorder.on_state(previous, ContactMask{});
-        State current;
+        // Two states read into in turn: the previous one is kept, not copied.
+        State states[2] = {State{0.0, s.position, s.velocity}, State{}};
+        recorder.on_state(states[0], ContactMask{});
+        int previous = 0;
         for (DocumentClock clock(s.dt, s.duration); clock.running() && !recorder.failed();) {
             for (int i = 0; i < substeps; ++i) world->step();
             clock.advance();
+            State& current = states[1 - previous];
             world->read(current);
             current.t = clock.t();
-            recorder.on_state(current, detector.detect(previous, current));
-            previous = current;
+            recorder.on_state(current, detector.detect(states[previous], current));
+            previous = 1 - previous;
         }
     });
     recorder.finish(out);

@@ -33,8 +33,10 @@ struct UnitScale {
     double to_engine_velocity(double v) const { return v * length / time; }
     double to_engine_acceleration(double a) const { return a * length / (time * time); }
     double to_engine_time(double t) const { return t * time; }
-    double from_engine_length(double x) const { return x / length; }
-    double from_engine_velocity(double v) const { return v * time / length; }
+    // Read back every step: at scale 1 (Bullet, ODE) the divisions would
+    // return x itself, bit for bit, so they are skipped.
+    double from_engine_length(double x) const { return length == 1.0 ? x : x / length; }
+    double from_engine_velocity(double v) const { return length == 1.0 && time == 1.0 ? v : v * time / length; }
 };
 
 // One wall of the room: the plane x[axis] = offset, facing inwards.

@@ -26,6 +26,10 @@ public:
     // Runs `s` to its end, streaming states into a recorder (and into `sink`
     // when given). Status, counts, apexes and timing come back.
     virtual SimulatorSummary run(const Scenario& s, StateSink* sink) const = 0;
+    // A run that records nothing, for timing (the sweep's cost): only status,
+    // reason, steps, final state and run_seconds are filled. A simulator with
+    // a cheaper path when no state is wanted overrides it.
+    virtual SimulatorSummary run_unrecorded(const Scenario& s) const { return run(s, nullptr); }
     // Runs a library this project does not own (an engine): `run` isolates it
     // in a child process, where an abort costs only its own result.
     virtual bool third_party() const { return false; }

@@ -136,7 +136,7 @@ SweepRow run_pair(const Scenario& base, const Simulator& sim, double dt, int rep
 
         double best = std::numeric_limits<double>::infinity();
         for (int i = 0; i < repeat; ++i) {
-            const SimulatorSummary timed = sim.run(s, nullptr);
+            const SimulatorSummary timed = sim.run_unrecorded(s);
             if (timed.status != RunStatus::ok) {
                 row.status = timed.status;
                 row.reason = fmt::format("timed run {}: {}", i + 1, timed.reason);

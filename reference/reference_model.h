@@ -34,6 +34,8 @@
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <numeric>
 
 namespace bouncecheck {
 
@@ -99,6 +101,27 @@ inline double product(double x, double y) {
 // is zero (a tangential velocity plus a zero gravity increment).
 inline double sum(double x, double y) { return (y == 0.0 && is_subnormal(x)) ? x : x + y; }
 
+// The least double h with h + reach >= size in round-to-nearest, for finite
+// size and reach: rounding is monotone, so x + reach < size holds exactly
+// when x < h. Found by bisection over the doubles in order (64 halvings).
+inline double least_reaching(double size, double reach) {
+    // Doubles in order as integers: -inf ... -0 = +0 ... +inf.
+    auto key = [](double x) {
+        const auto b = std::bit_cast<std::int64_t>(x);
+        return b < 0 ? -(b & std::numeric_limits<std::int64_t>::max()) : b;
+    };
+    auto value = [](std::int64_t k) {
+        return k < 0 ? -std::bit_cast<double>(-k) : std::bit_cast<double>(k);
+    };
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    std::int64_t below = key(-kInf), reaching = key(kInf);  // -inf does not reach, +inf does
+    while (reaching > below + 1) {
+        const std::int64_t mid = std::midpoint(below, reaching);
+        (value(mid) + reach >= size ? reaching : below) = mid;
+    }
+    return value(reaching);
+}
+
 }  // namespace detail
 
 // The document's model in D dimensions (2 or 3). Holds the model's own
@@ -124,16 +147,52 @@ public:
         alpha_ = s.alpha;
         tangential_factor_ = (s.alpha + s.beta) - s.alpha;
         careful_ = needs_care();
+        // The in-bounds tests as single comparisons, for the free-flight loop.
+        // q - r > 0 is q > r exactly (with gradual underflow a difference is
+        // zero only for equal operands, and has the exact difference's sign).
+        lower_limit_ = D == 2 ? 0.0 : r_;
+        for (int i = 0; i < D; ++i) upper_limit_[i] = detail::least_reaching(size_[i], D == 2 ? two_r_ : r_);
     }
 
     bool running() const { return clock_.running(); }
 
     // One pass of the document's loop body, then t = t + dt.
     ContactMask step() {
-        // Subnormal velocities only appear late in the Zeno regime; until then
-        // the plain hardware step is the exact one and needs no checks.
-        return careful_ ? step_impl<true>() : step_impl<false>();
+        const ContactMask contact = move();
+        clock_.advance();
+        ++steps_;
+        return contact;
     }
+
+    // Takes every remaining step of the run; afterwards state() is the final
+    // state, bit for bit what step() would have reached. Between contacts it
+    // runs a free-flight loop with no per-step branch beyond one in-bounds
+    // test; once the ball's state (position and velocity, not t) repeats one
+    // seen at an earlier contact, the step map is periodic from there on, so
+    // the remaining steps are counted on the clock alone and only their
+    // remainder modulo the period is stepped.
+    void run_to_end() {
+        RepeatFinder repeats;
+        while (clock_.running()) {
+            if (!careful_) {
+                free_flight();
+                if (!clock_.running()) break;
+            }
+            const ContactMask contact = move();
+            clock_.advance();
+            ++steps_;
+            if (contact.any() && repeats.seen(q_, v_, steps_)) {
+                skip_periodic(steps_ - repeats.match_step());
+                return;
+            }
+        }
+    }
+
+    std::int64_t steps() const { return steps_; }
+    // The step at which run_to_end() found the state repeating, and the
+    // period (0 if it never did): for the tests and the benchmark.
+    std::int64_t repeat_found_at() const { return repeat_found_at_; }
+    std::int64_t repeat_period() const { return repeat_period_; }
 
     // The state in the scenario's terms: centre, velocity, time.
     State state() const {
@@ -147,10 +206,15 @@ public:
     }
 
 private:
+    // The state part of a step (the clock is separate: the step map does not
+    // depend on t). Subnormal velocities only appear late in the Zeno regime;
+    // until then the plain hardware step is the exact one and needs no checks.
+    ContactMask move() { return careful_ ? move_impl<true>() : move_impl<false>(); }
+
     // With Careful, products and sums that involve a subnormal operand go
     // through detail:: (same bits, no slow hardware path).
     template <bool Careful>
-    ContactMask step_impl() {
+    ContactMask move_impl() {
         // EulersPosition: move with the old velocity, then clamp below and above.
         // Both in-bounds tests look at the unclamped position, as in the document.
         // A sum is -0 only if both terms are, and q is never -0, so the +0 of
@@ -173,9 +237,108 @@ private:
             if (contact.upper) apply_damping<Careful>(contact.upper);
             careful_ = needs_care();
         }
-        clock_.advance();
         return contact;
     }
+
+    // Non-careful steps while the moved position stays inside every wall:
+    // then the step is exactly q = q + v dt, v = v + g dt, with no clamp and
+    // no contact. Stops before a step that would reach a wall (move() takes
+    // that one) or at the end of the run. The components go two to a vector
+    // (GCC/Clang vector extensions: each lane is the same IEEE operation as
+    // the scalar code, so the same bits); a third component shares its pair
+    // with a padding lane that never moves and is always inside.
+    void free_flight() {
+        using Pair = double __attribute__((vector_size(16)));
+        using PairMask = std::int64_t __attribute__((vector_size(16)));
+        constexpr int kPairs = (D + 1) / 2;
+        constexpr double kInf = std::numeric_limits<double>::infinity();
+        // Pair k holds components 2k and 2k + 1 of x, or `pad` past D.
+        auto pairs = [](auto x, double pad) {
+            std::array<Pair, kPairs> out;
+            for (int k = 0; k < kPairs; ++k) {
+                const int i = 2 * k;
+                out[k] = Pair{x(i), i + 1 < D ? x(i + 1) : pad};
+            }
+            return out;
+        };
+        std::array<Pair, kPairs> q = pairs([&](int i) { return q_[i]; }, 0.0);
+        std::array<Pair, kPairs> v = pairs([&](int i) { return v_[i]; }, 0.0);
+        const std::array<Pair, kPairs> g = pairs([&](int i) { return gdt_[i]; }, 0.0);
+        const std::array<Pair, kPairs> lo = pairs([&](int) { return lower_limit_; }, -kInf);
+        const std::array<Pair, kPairs> hi = pairs([&](int i) { return upper_limit_[i]; }, kInf);
+        const Pair dt = {dt_, dt_};
+        DocumentClock clock = clock_;
+        std::int64_t n = 0;
+        while (clock.running()) {
+            std::array<Pair, kPairs> moved;
+            PairMask inside = {-1, -1};
+            for (int k = 0; k < kPairs; ++k) {
+                moved[k] = q[k] + v[k] * dt;
+                inside &= (moved[k] > lo[k]) & (moved[k] < hi[k]);
+            }
+            if ((inside[0] & inside[1]) == 0) break;
+            for (int k = 0; k < kPairs; ++k) {
+                q[k] = moved[k];
+                v[k] = v[k] + g[k];
+            }
+            clock.advance();
+            ++n;
+        }
+        for (int i = 0; i < D; ++i) {
+            q_[i] = q[i / 2][i % 2];
+            v_[i] = v[i / 2][i % 2];
+        }
+        clock_ = clock;
+        steps_ += n;
+    }
+
+    // The state has been seen `period` steps ago: from here the states repeat
+    // with that period. The clock still needs every add (its rounding has no
+    // closed form); the state only the remainder.
+    void skip_periodic(std::int64_t period) {
+        repeat_found_at_ = steps_;
+        repeat_period_ = period;
+        std::int64_t remaining = 0;
+        DocumentClock clock = clock_;  // a local: t stays in a register
+        for (; clock.running(); clock.advance()) ++remaining;
+        clock_ = clock;
+        for (std::int64_t k = remaining % period; k > 0; --k) move();
+        steps_ += remaining;
+    }
+
+    // Tells when the state after a contact equals the state after an earlier
+    // contact, bit for bit: a state determines every later one, so that is a
+    // cycle. Brent's way: one saved state, compared with each contact's,
+    // replaced every kWindow contacts; a cycle of up to kWindow contacts is
+    // found within 2 kWindow contacts of its start (the seed's rest repeats
+    // every 30 steps, a few contacts). One hash compare per contact.
+    class RepeatFinder {
+    public:
+        bool seen(const std::array<double, D>& q, const std::array<double, D>& v, std::int64_t step) {
+            std::array<std::uint64_t, 2 * D> bits;
+            for (int i = 0; i < D; ++i) {
+                bits[i] = std::bit_cast<std::uint64_t>(q[i]);
+                bits[D + i] = std::bit_cast<std::uint64_t>(v[i]);
+            }
+            std::uint64_t hash = 0;
+            for (const std::uint64_t b : bits) hash = (hash ^ b) * 0x9E3779B97F4A7C15ull;
+            if (contacts_ > 0 && hash == saved_hash_ && bits == saved_) return true;
+            if (contacts_++ % kWindow == 0) {
+                saved_ = bits;
+                saved_hash_ = hash;
+                saved_step_ = step;
+            }
+            return false;
+        }
+        // The step of the saved state that matched.
+        std::int64_t match_step() const { return saved_step_; }
+
+    private:
+        static constexpr std::int64_t kWindow = 64;
+        std::array<std::uint64_t, 2 * D> saved_{};
+        std::uint64_t saved_hash_ = 0;
+        std::int64_t saved_step_ = 0, contacts_ = 0;
+    };
 
     // Whether a product or sum of this step could touch a subnormal. Only the
     // damping multiplications bring a velocity near that range (gravity adds
@@ -211,6 +374,10 @@ private:
     std::array<double, D> q_{}, v_{}, gdt_{}, size_{}, upper_clamp_{};
     double dt_ = 0, r_ = 0, two_r_ = 0, alpha_ = 0, tangential_factor_ = 0;
     bool careful_ = false;  // take the subnormal-safe path (see needs_care)
+    double lower_limit_ = 0;    // lower_in_bounds(q) is q > lower_limit_
+    std::array<double, D> upper_limit_{};  // upper_in_bounds(q, i) is q < upper_limit_[i]
+    std::int64_t steps_ = 0;  // steps taken, by step() or run_to_end()
+    std::int64_t repeat_found_at_ = 0, repeat_period_ = 0;
 };
 
 }  // namespace bouncecheck

@@ -30,6 +30,25 @@ public:
         recorder.finish(out);
         return out;
     }
+    // The model alone, to the end: the free-flight loop, and the periodic
+    // rest counted rather than stepped (ReferenceModel::run_to_end).
+    SimulatorSummary run_unrecorded(const Scenario& s) const override {
+        SimulatorSummary out;
+        out.simulator = std::string(name());
+        const auto run = [&](auto& model) {
+            out.run_seconds = timed_seconds([&] { model.run_to_end(); });
+            out.steps = model.steps();
+            out.final_state = model.state();
+        };
+        if (s.dim == 2) {
+            ReferenceModel<2> model(s);
+            run(model);
+        } else {
+            ReferenceModel<3> model(s);
+            run(model);
+        }
+        return out;
+    }
 };
 
 class ExactSimulator final : public Simulator {

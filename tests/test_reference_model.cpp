@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -217,6 +218,169 @@ TEST(ReferenceModel, LongRunThroughSubnormalsMatchesPlainArithmetic) {
     }
     EXPECT_TRUE(saw_subnormal) << "the run did not reach the subnormal range it is meant to test";
 }
+
+// The oracle itself is the document: the plain transcription reproduces the
+// golden files too, in 2D (corner arithmetic) and 3D.
+template <int D>
+void expect_plain_matches_golden(const std::string& scenario_file, const std::string& golden_file) {
+    const Scenario s = load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/" + scenario_file);
+    const auto golden = read_csv(std::string(BOUNCECHECK_TEST_DATA) + "/" + golden_file);
+    PlainReferenceModel<D> plain(s);
+    DocumentClock clock(s.dt, s.duration);
+    size_t n = 0;
+    for (;; ++n) {
+        ASSERT_LT(n, golden.rows.size());
+        const State st = plain.state(clock.t());
+        const auto& row = golden.rows[n];
+        ASSERT_EQ(bits(st.t), bits(row[0])) << "row " << n;
+        for (int i = 0; i < D; ++i) {
+            ASSERT_EQ(bits(st.p[i]), bits(row[1 + i])) << "row " << n << " axis " << i;
+            ASSERT_EQ(bits(st.v[i]), bits(row[1 + D + i])) << "row " << n << " axis " << i;
+        }
+        if (!clock.running()) break;
+        plain.step();
+        clock.advance();
+    }
+    EXPECT_EQ(n + 1, golden.rows.size());
+}
+
+// The free-flight loop's single comparison against the upper wall is the
+// document's q + reach < size, for every double near the limit.
+TEST(ReferenceModel, UpperLimitIsTheDocumentsTest) {
+    const double sizes[] = {1.0, 0.3, 2.0, 1e-3, 7.25, 1e6};
+    const double reaches[] = {0.05, 0.1, 0.025, 1e-17, 0.3, 2.5e-4};
+    for (double size : sizes) {
+        for (double reach : reaches) {
+            const double h = detail::least_reaching(size, reach);
+            double x = h;
+            for (int k = 0; k < 2000; ++k) x = std::nextafter(x, -1e300);
+            for (int k = 0; k < 4000; ++k, x = std::nextafter(x, 1e300))
+                ASSERT_EQ(x + reach < size, x < h) << "size " << size << " reach " << reach << " x " << x;
+        }
+    }
+}
+
+TEST(PlainReferenceModel, MatchesGolden2d) { expect_plain_matches_golden<2>("seed-2d.toml", "seed-2d.csv"); }
+TEST(PlainReferenceModel, MatchesGolden3d) { expect_plain_matches_golden<3>("seed-3d.toml", "seed-3d.csv"); }
+
+void expect_same_bits(const State& got, const State& want, int dim, const std::string& where) {
+    EXPECT_EQ(bits(got.t), bits(want.t)) << where << " t";
+    for (int i = 0; i < dim; ++i) {
+        EXPECT_EQ(bits(got.p[i]), bits(want.p[i])) << where << " p[" << i << "]: " << got.p[i] << " vs " << want.p[i];
+        EXPECT_EQ(bits(got.v[i]), bits(want.v[i])) << where << " v[" << i << "]: " << got.v[i] << " vs " << want.v[i];
+    }
+}
+
+// run_to_end() against the plain model over runs that end before, at, and
+// long after the point where the resting state starts repeating. The plain
+// model is stepped once to the longest run; each checkpoint N is a run of
+// its own whose duration is the clock's t after N steps, so the document's
+// loop takes exactly N steps. Returns the step at which the fast run of the
+// longest checkpoint found its repeat.
+template <int D>
+std::int64_t expect_run_to_end_matches_plain(Scenario s, std::int64_t longest) {
+    s.duration = 1e300;  // the plain loop below decides where to stop
+    // Every step near the start (free flight and the first contacts), then
+    // every 19,997th, then every step of a stretch far out in the resting
+    // regime: 64 steps, every remainder of a period up to 64.
+    std::vector<std::int64_t> checkpoints;
+    for (std::int64_t n = 0; n <= 300; ++n) checkpoints.push_back(n);
+    for (std::int64_t n = 301; n < longest - 64; n += 19997) checkpoints.push_back(n);
+    for (std::int64_t n = longest - 64; n <= longest; ++n) checkpoints.push_back(n);
+
+    PlainReferenceModel<D> plain(s);
+    DocumentClock clock(s.dt, s.duration);
+    std::int64_t found_at = 0;
+    std::int64_t n = 0;
+    for (const std::int64_t target : checkpoints) {
+        for (; n < target; ++n) {
+            plain.step();
+            clock.advance();
+        }
+        Scenario run = s;
+        run.duration = clock.t();
+        ReferenceModel<D> fast(run);
+        fast.run_to_end();
+        const std::string where = "dim " + std::to_string(D) + ", run of " + std::to_string(n) + " steps";
+        EXPECT_EQ(fast.steps(), n) << where;
+        expect_same_bits(fast.state(), plain.state(clock.t()), D, where);
+        if (::testing::Test::HasFailure()) return 0;
+        found_at = fast.repeat_found_at();
+    }
+    return found_at;
+}
+
+TEST(ReferenceModel, RunToEndMatchesPlainThroughTheRepeatingRest3d) {
+    const Scenario s = load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/seed-3d.toml");
+    // seed-3d's repeat is found near step 1,102,000 (period 30 steps).
+    const std::int64_t longest = 1300000;
+    const std::int64_t found_at = expect_run_to_end_matches_plain<3>(s, longest);
+    EXPECT_GT(found_at, 0) << "the longest run never skipped: the periodic path went untested";
+    EXPECT_LT(found_at, longest - 64) << "the stretch of every remainder lies past the repeat";
+}
+
+TEST(ReferenceModel, RunToEndMatchesPlainThroughTheRepeatingRest2d) {
+    const Scenario s = load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/seed-2d.toml");
+    // seed-2d's repeat is found near step 1,249,000 (period 17 steps).
+    const std::int64_t longest = 1400000;
+    const std::int64_t found_at = expect_run_to_end_matches_plain<2>(s, longest);
+    EXPECT_GT(found_at, 0) << "the longest run never skipped: the periodic path went untested";
+    EXPECT_LT(found_at, longest - 64) << "the stretch of every remainder lies past the repeat";
+}
+
+// Random rooms, balls, gravities (any direction, so ceilings and side walls
+// are floors too), damping and steps: run_to_end() and step() by step both
+// equal the plain model, state by state for step() and at the end for
+// run_to_end(). Short runs: the free-flight loop's exits at every wall.
+template <int D>
+void expect_random_scenarios_match_plain(std::uint64_t seed) {
+    std::uint64_t state = seed;
+    auto next = [&] { state ^= state << 13; state ^= state >> 7; state ^= state << 17; return state; };
+    auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * static_cast<double>(next() >> 11) * 0x1p-53; };
+    int repeated = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+        Scenario s;
+        s.dim = D;
+        s.room = Vec3::Zero();
+        s.position = Vec3::Zero();
+        s.velocity = Vec3::Zero();
+        s.gravity = Vec3::Zero();
+        s.radius = uniform(0.01, 0.2);
+        for (int i = 0; i < D; ++i) {
+            s.room[i] = uniform(4 * s.radius, 3.0);
+            s.position[i] = uniform(s.radius, s.room[i] - s.radius);
+            s.velocity[i] = uniform(-2.0, 2.0);
+            s.gravity[i] = (next() & 3) == 0 ? 0.0 : uniform(-10.0, 10.0);
+        }
+        s.alpha = uniform(0.1, 1.0);
+        s.beta = uniform(0.5, 1.0);
+        s.dt = uniform(1e-3, 0.05);
+        s.duration = s.dt * uniform(10, 3000);
+
+        ReferenceModel<D> stepped(s), fast(s);
+        PlainReferenceModel<D> plain(s);
+        DocumentClock clock(s.dt, s.duration);
+        const std::string where = "dim " + std::to_string(D) + " trial " + std::to_string(trial);
+        std::int64_t n = 0;
+        for (; clock.running(); ++n) {
+            stepped.step();
+            plain.step();
+            clock.advance();
+            expect_same_bits(stepped.state(), plain.state(clock.t()), D, where + " step " + std::to_string(n));
+            if (::testing::Test::HasFailure()) return;
+        }
+        fast.run_to_end();
+        EXPECT_EQ(fast.steps(), n) << where;
+        expect_same_bits(fast.state(), plain.state(clock.t()), D, where + " end");
+        if (::testing::Test::HasFailure()) return;
+        if (fast.repeat_found_at() > 0) ++repeated;
+    }
+    // Strong damping and gravity come to a repeating rest within the run.
+    EXPECT_GT(repeated, 0) << "no trial reached a repeating state: the periodic path went untested";
+}
+
+TEST(ReferenceModel, RandomScenariosMatchPlain3d) { expect_random_scenarios_match_plain<3>(0x243F6A8885A308D3ull); }
+TEST(ReferenceModel, RandomScenariosMatchPlain2d) { expect_random_scenarios_match_plain<2>(0x13198A2E03707344ull); }
 
 }  // namespace
 }  // namespace bouncecheck

@@ -2,6 +2,7 @@
 // independence of --jobs, skipped and failed pairs, and the command end to end.
 #include "adapters/simulator.h"
 #include "compare/sweep.h"
+#include "reference/simulators.h"
 #include "scenarios/loader.h"
 #include "tests/support/cli.h"
 
@@ -133,6 +134,23 @@ TEST(SweepPareto, KeepsTheRowsNoOtherBeatsOnBothCostAndError) {
     }
     rows[5].status = RunStatus::failed;
     EXPECT_EQ(pareto_front(rows), (std::vector<bool>{true, true, false, true, true, false, false}));
+}
+
+// The sweep times the reference on its unrecorded path (free flight, the
+// periodic rest counted): it must be the same run, ending in the same bits.
+TEST(SweepTiming, ReferencesUnrecordedRunEndsInTheSameState) {
+    const auto reference = make_reference_simulator();
+    for (const char* name : {"seed-2d.toml", "seed-3d.toml"}) {
+        Scenario s = load_scenario(kScenarios + "/" + name);
+        s.duration = 40000;  // through the periodic rest (~1.1e6 steps in)
+        const SimulatorSummary recorded = reference->run(s, nullptr);
+        const SimulatorSummary unrecorded = reference->run_unrecorded(s);
+        EXPECT_EQ(unrecorded.status, RunStatus::ok);
+        EXPECT_EQ(unrecorded.steps, recorded.steps) << name;
+        EXPECT_EQ(unrecorded.final_state.t, recorded.final_state.t) << name;
+        EXPECT_EQ(unrecorded.final_state.p, recorded.final_state.p) << name;
+        EXPECT_EQ(unrecorded.final_state.v, recorded.final_state.v) << name;
+    }
 }
 
 TEST(SweepParallel, ResultsDoNotDependOnJobs) {

@@ -285,6 +285,13 @@ private:
 
 }  // namespace
 
+std::unique_ptr<EngineWorld> build_world(const Scenario& s, const EngineOptions& options, const Tuning& tuning,
+                                         std::vector<SimulatorSummary::Setting>& settings) {
+    UnitScale scale;
+    scale.length = tuning.length_scale > 0 ? tuning.length_scale : 1.0 / s.radius;
+    return std::make_unique<Box2dWorld>(s, options, tuning, scale, settings);
+}
+
 std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
     EngineCapabilities caps;
     caps.runs_3d = false;
@@ -292,11 +299,7 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
     return make_engine_simulator(
         {"box2d", "Box2D 2.4.1 (2D, float): dynamic circle in four static boxes, scaled so the ball is 1 m", caps,
          [tuning](const Scenario& s, const EngineOptions& options, std::vector<SimulatorSummary::Setting>& settings)
-             -> std::unique_ptr<EngineWorld> {
-             UnitScale scale;
-             scale.length = tuning.length_scale > 0 ? tuning.length_scale : 1.0 / s.radius;
-             return std::make_unique<Box2dWorld>(s, options, tuning, scale, settings);
-         }});
+             -> std::unique_ptr<EngineWorld> { return build_world(s, options, tuning, settings); }});
 }
 
 }  // namespace box2d

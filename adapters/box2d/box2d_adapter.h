@@ -4,9 +4,10 @@
 // Box2D's own default, the trap).
 #pragma once
 
-#include "adapters/simulator.h"
+#include "adapters/engine.h"
 
 #include <memory>
+#include <vector>
 
 namespace bouncecheck::box2d {
 
@@ -37,6 +38,11 @@ struct Tuning {
     // b2World::SetWarmStarting. Default true.
     bool warm_starting = true;
 };
+
+// The world the adapter builds with `tuning` (the bench steps it bare to
+// measure the shared loop's overhead), appending the settings used.
+std::unique_ptr<EngineWorld> build_world(const Scenario& s, const EngineOptions& options, const Tuning& tuning,
+                                         std::vector<SimulatorSummary::Setting>& settings);
 
 // The "box2d" simulator with non-default tuning (tests only).
 std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning);
