@@ -64,6 +64,15 @@ constexpr int kMaxDotsOutsideStrings = 1000;
 // Also the range in which every integer converts to double exactly.
 constexpr double kMaxMagnitude = 1e15;
 constexpr double kMaxSteps = 1e10;
+// The engines abort on some input far below everyday scales, so the loader
+// refuses it first: a 2D ball of radius 1e-100 makes Box2D assert (it scales
+// lengths by 1/radius into floats, and speeds overflow), one of 1e-300 makes
+// ODE abort (its inertia underflows), and so does a dt of 1e-300 at speeds of
+// 1e15 or a subnormal dt (its constraint forces scale with 1/dt and overflow;
+// its quaternion normalisation faults). With |v| <= kMaxMagnitude and these
+// floors, every engine tried stays finite or fails cleanly.
+constexpr double kMinRadius = 1e-9;
+constexpr double kMinDt = 1e-9;
 constexpr std::size_t kMaxNameBytes = 255;  // NAME_MAX: the name becomes a folder
 constexpr std::size_t kMaxEchoBytes = 60;   // of untrusted text quoted in a reason
 
@@ -636,8 +645,15 @@ Scenario validate(const toml::table& root, Checker& c) {
     auto thresholds = read_thresholds(root, c);
     c.report_unknown_keys();
 
-    if (radius) c.expect(radius->value > 0, *radius, fmt::format("must be > 0, got {}", radius->value));
-    const bool radius_ok = radius && radius->value > 0;
+    if (radius) {
+        c.expect(radius->value > 0, *radius, fmt::format("must be > 0, got {}", radius->value));
+        if (radius->value > 0)
+            c.expect(radius->value >= kMinRadius, *radius,
+                     fmt::format("{} m is below the limit of {} m (1 nm), which keeps every engine's arithmetic "
+                                 "in range",
+                                 radius->value, kMinRadius));
+    }
+    const bool radius_ok = radius && radius->value >= kMinRadius;
     if (size) {
         for (std::size_t i = 0; i < size->size(); ++i) {
             const Number& side = (*size)[i];
@@ -664,10 +680,17 @@ Scenario validate(const toml::table& root, Checker& c) {
             c.expect(factor->value >= 0 && factor->value <= 1, *factor,
                      fmt::format("damping factor must be within [0, 1], got {}", factor->value));
     }
-    if (dt) c.expect(dt->value > 0, *dt, fmt::format("must be > 0, got {}", dt->value));
+    if (dt) {
+        c.expect(dt->value > 0, *dt, fmt::format("must be > 0, got {}", dt->value));
+        if (dt->value > 0)
+            c.expect(dt->value >= kMinDt, *dt,
+                     fmt::format("{} s is below the limit of {} s (1 ns), which keeps every engine's arithmetic in "
+                                 "range",
+                                 dt->value, kMinDt));
+    }
     if (duration)
         c.expect(duration->value > 0, *duration, fmt::format("must be > 0, got {}", duration->value));
-    if (dt && duration && dt->value > 0 && duration->value > 0) {
+    if (dt && duration && dt->value >= kMinDt && duration->value > 0) {  // else dt is reported already
         c.expect(dt->value <= duration->value, *dt,
                  fmt::format("dt {} is larger than duration {}", dt->value, duration->value));
         const double steps = duration->value / dt->value;
@@ -694,10 +717,17 @@ Scenario validate(const toml::table& root, Checker& c) {
     return s;
 }
 
+// Why oversized input is refused, `what` being "input is" or "file is N bytes,";
+// reported at 1:1, where the input starts.
+std::string too_large(std::string_view what) {
+    return fmt::format("{} larger than the limit of {} bytes (1 MiB); a scenario file is far smaller", what,
+                       kMaxInputBytes);
+}
+
 Scenario parse_unguarded(std::string_view text, const std::string& file_name) {
     Checker c{file_name};
     if (text.size() > kMaxInputBytes) {
-        c.report({}, "", fmt::format("input is larger than {} bytes; a scenario file is far smaller", kMaxInputBytes));
+        c.report({1, 1}, "", too_large("input is"));
         c.fail();
     }
     if (auto hazard = find_parser_hazard(text)) {
@@ -724,9 +754,14 @@ Scenario load_unguarded(const std::filesystem::path& file) {
     if (std::filesystem::is_directory(status)) fail("cannot open: is a directory, not a scenario file");
     if (!std::filesystem::is_regular_file(status)) fail("cannot open: not a regular file");
 
+    // Refused by its size before a byte is read, so a 1 GB file costs nothing.
+    const std::uintmax_t bytes = std::filesystem::file_size(file, ec);
+    if (!ec && bytes > kMaxInputBytes)
+        throw ScenarioError({{name, 1, 1, "", too_large(fmt::format("file is {} bytes,", bytes))}});
+
     std::ifstream in(file, std::ios::binary);
     if (!in) fail(fmt::format("cannot open: {}", std::generic_category().message(errno)));
-    // One byte past the limit is enough for parse_unguarded to reject an oversized file.
+    // One byte past the limit is enough for parse_unguarded to reject a file that grew since.
     std::string text(kMaxInputBytes + 1, '\0');
     in.read(text.data(), static_cast<std::streamsize>(text.size()));
     if (in.bad()) fail("cannot read file");

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Brings a fresh Debian 12 machine to a built bouncecheck: installs the Debian
 # packages that are missing, configures and builds into build/ (or $BUILD_DIR).
-# Sourced or run by scripts/run.sh and scripts/test.sh; safe to run again.
+# Run by scripts/run.sh, test.sh and sanitize.sh; arguments go to the CMake
+# configure step (e.g. -DBOUNCECHECK_WITH_ODE=OFF). Safe to run again.
 # WITH_BROWSER=1 (scripts/test.sh sets it) also installs Debian's chromium for
 # the test that opens the HTML pages in a real browser.
 set -euo pipefail
@@ -21,17 +22,7 @@ PACKAGES=(
 command -v node >/dev/null && command -v npm >/dev/null || PACKAGES+=(nodejs npm)
 [ "${WITH_BROWSER:-0}" = 1 ] && PACKAGES+=(chromium)
 
-missing=()
-for p in "${PACKAGES[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if ((${#missing[@]})); then
-  echo "setup: installing ${missing[*]}"
-  SUDO=""
-  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
-fi
+"$ROOT/scripts/packages.sh" "${PACKAGES[@]}"
 
 # web/node_modules from the lock file, again only when the lock file changed.
 WEB="$ROOT/web"
@@ -43,6 +34,6 @@ if [ "$(cat "$WEB/node_modules/.bouncecheck-lock" 2>/dev/null)" != "$lock_hash" 
 fi
 
 mkdir -p "$BUILD_DIR"
-cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE="${BUILD_TYPE:-Release}" > "$BUILD_DIR/configure.log" 2>&1 \
+cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE="${BUILD_TYPE:-Release}" "$@" > "$BUILD_DIR/configure.log" 2>&1 \
   || { cat "$BUILD_DIR/configure.log"; exit 1; }
 cmake --build "$BUILD_DIR" -j "$(nproc)"

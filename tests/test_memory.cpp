@@ -64,6 +64,15 @@ fs::path long_scenario(const fs::path& dir, std::int64_t steps) {
     return file;
 }
 
+// The ceiling on the peak. Under AddressSanitizer (scripts/sanitize.sh) its
+// runtime's shadow memory and allocator add a fixed ~25 MB (74 MB measured);
+// the growth check is the same in both builds.
+#ifdef __SANITIZE_ADDRESS__
+constexpr long kPeakCeilingKb = 128 * 1024;
+#else
+constexpr long kPeakCeilingKb = 50 * 1024;
+#endif
+
 TEST(Memory, ReferenceRunPeakDoesNotGrowWithRunLength) {
     const fs::path dir = fs::temp_directory_path() / ("bouncecheck-memory-" + std::to_string(::getpid()));
     fs::create_directories(dir);
@@ -75,7 +84,7 @@ TEST(Memory, ReferenceRunPeakDoesNotGrowWithRunLength) {
         EXPECT_EQ(r.exit_status, 0) << lengths[k] << " steps";
         peak_kb[k] = r.peak_rss_kb;
         EXPECT_GT(r.peak_rss_kb, 0);
-        EXPECT_LT(r.peak_rss_kb, 50 * 1024) << lengths[k] << " steps";
+        EXPECT_LT(r.peak_rss_kb, kPeakCeilingKb) << lengths[k] << " steps";
     }
     EXPECT_LT(peak_kb[1] - peak_kb[0], 1024) << "peak RSS " << peak_kb[0] << " KB at 1e5 steps, " << peak_kb[1]
                                              << " KB at 1e7 steps";
