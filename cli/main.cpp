@@ -292,8 +292,12 @@ int command_sweep(const SweepOptions& opt) {
             fmt::print(stderr, "error: --dt {}: larger than the scenario's duration {}\n", dt, s.duration);
             return kBadInput;
         }
-        if (s.duration / dt > 1e10) {
-            fmt::print(stderr, "error: --dt {}: more than 1e10 steps over {} s\n", dt, s.duration);
+        if (dt < kMinDt) {
+            fmt::print(stderr, "error: --dt {}: below the smallest time step, {:g} s\n", dt, kMinDt);
+            return kBadInput;
+        }
+        if (s.duration / dt > kMaxSteps) {
+            fmt::print(stderr, "error: --dt {}: more than {:.0e} steps over {} s\n", dt, kMaxSteps, s.duration);
             return kBadInput;
         }
     }

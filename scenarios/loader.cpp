@@ -63,7 +63,6 @@ constexpr std::size_t kMaxInputBytes = std::size_t{1} << 20;
 constexpr int kMaxDotsOutsideStrings = 1000;
 // Also the range in which every integer converts to double exactly.
 constexpr double kMaxMagnitude = 1e15;
-constexpr double kMaxSteps = 1e10;
 // The engines abort on some input far below everyday scales, so the loader
 // refuses it first: a 2D ball of radius 1e-100 makes Box2D assert (it scales
 // lengths by 1/radius into floats, and speeds overflow), one of 1e-300 makes
@@ -72,7 +71,6 @@ constexpr double kMaxSteps = 1e10;
 // its quaternion normalisation faults). With |v| <= kMaxMagnitude and these
 // floors, every engine tried stays finite or fails cleanly.
 constexpr double kMinRadius = 1e-9;
-constexpr double kMinDt = 1e-9;
 constexpr std::size_t kMaxNameBytes = 255;  // NAME_MAX: the name becomes a folder
 constexpr std::size_t kMaxEchoBytes = 60;   // of untrusted text quoted in a reason
 

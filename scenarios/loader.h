@@ -36,6 +36,12 @@ private:
     std::vector<Diagnostic> diagnostics_;
 };
 
+// Limits of a valid run, also applied to the dts a sweep is given: below 1e-9 s
+// a step makes ODE abort at extreme speeds (see loader.cpp), and more steps
+// than this would run for hours.
+inline constexpr double kMinDt = 1e-9;
+inline constexpr double kMaxSteps = 1e10;
+
 // Reads and validates a scenario file. Throws ScenarioError.
 Scenario load_scenario(const std::filesystem::path& file);
 

@@ -287,7 +287,7 @@ TEST(SweepCli, WritesCsvAndJson) {
 TEST(SweepCli, BadInputExitsTwo) {
     const std::string scenario = kScenarios + "/seed-2d.toml";
     const fs::path out = fresh_dir("sweep-bad");
-    for (const std::string args : {" --dt 0.03,x", " --dt 0.03:0.01", " --dt -0.01", " --dt 100",
+    for (const std::string args : {" --dt 0.03,x", " --dt 0.03:0.01", " --dt -0.01", " --dt 100", " --dt 1e-300", " --dt 1e-10",
                                    " --engines nosuch", " --engines exact", " --repeat 0"}) {
         const test::CliResult r = test::bouncecheck("sweep " + scenario + args + " --out " + out.string());
         EXPECT_EQ(r.status, 2) << args << ": " << r.output;
