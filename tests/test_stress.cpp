@@ -12,6 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdint>
+#include <sstream>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -493,6 +495,42 @@ TEST_F(StressCli, FailedGeneratedScenariosAreWrittenForRun) {
     EXPECT_EQ(scenario_toml(load_scenario(file)).substr(0, 40), scenario_toml(broken).substr(0, 40));
     EXPECT_EQ(load_scenario(file).velocity, broken.velocity);
     EXPECT_EQ(test::bouncecheck("validate " + file.string()).status, 0);
+}
+
+// Determinism: every job count gives the same results, bit for bit, once the
+// wall-clock columns (run_seconds, cost_ratio) are left out; a hash of what
+// remains proves it.
+TEST_F(StressCli, SameResultsForEveryJobCount) {
+    auto digest_without_timings = [&](int jobs) {
+        const fs::path dir = out_ / std::to_string(jobs);
+#ifdef BOUNCECHECK_WITH_BOX2D
+        const std::string engines = "reference,exact,box2d";  // box2d: an engine with global state
+#else
+        const std::string engines = "reference,exact";
+#endif
+        const auto r = test::bouncecheck("stress --engines " + engines + " --only wall-starts corner-2d elastic --jobs " +
+                                         std::to_string(jobs) + " --out " + dir.string());
+        EXPECT_LE(r.status, 1) << r.output;
+        std::istringstream csv(test::slurp(dir / "stress.csv"));
+        std::string line;
+        std::getline(csv, line);
+        std::vector<bool> timing;
+        std::istringstream header(line);
+        for (std::string name; std::getline(header, name, ',');) timing.push_back(name == "run_seconds" || name == "cost_ratio");
+        std::uint64_t h = 1469598103934665603ull;
+        std::size_t rows = 0;
+        while (std::getline(csv, line)) {
+            std::istringstream fields(line);
+            std::size_t i = 0;
+            for (std::string f; std::getline(fields, f, ','); ++i)
+                if (i >= timing.size() || !timing[i])
+                    for (unsigned char c : f + ",") h = (h ^ c) * 1099511628211ull;
+            ++rows;
+        }
+        EXPECT_GE(rows, 3u * 14u);
+        return h;
+    };
+    EXPECT_EQ(digest_without_timings(1), digest_without_timings(2));
 }
 
 TEST_F(StressCli, BadInputExitsTwo) {
