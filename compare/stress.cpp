@@ -2,12 +2,9 @@
 
 #include "compare/atomic_file.h"
 #include "compare/summary.h"
-#include "compare/sweep.h"
+#include "compare/parallel_pairs.h"
 
 #include <fmt/format.h>
-#include <tbb/info.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
@@ -16,7 +13,6 @@
 #include <exception>
 #include <limits>
 #include <map>
-#include <mutex>
 #include <set>
 #include <utility>
 
@@ -381,42 +377,16 @@ StressReport run_stress(const std::vector<StressCase>& cases, const StressReques
     const std::size_t total = cases.size() * n_sim;
     report.results.resize(total);
 
-    // As in the sweep: an engine with shared library state runs all its cases
-    // in one task; every other pair is a task of its own, the longest first.
-    auto steps = [&](std::size_t pair) { return cases[pair / n_sim].scenario.duration / cases[pair / n_sim].scenario.dt; };
-    std::vector<std::vector<std::size_t>> tasks;
-    std::vector<std::size_t> parallel_pairs;
-    for (std::size_t e = 0; e < n_sim; ++e) {
-        const bool serial = serial_engine_reason(request.simulators[e]->name()).has_value();
-        std::vector<std::size_t> group;
-        for (std::size_t c = 0; c < cases.size(); ++c) (serial ? group : parallel_pairs).push_back(c * n_sim + e);
-        if (serial) tasks.push_back(std::move(group));
-    }
-    std::stable_sort(parallel_pairs.begin(), parallel_pairs.end(),
-                     [&](std::size_t a, std::size_t b) { return steps(a) > steps(b); });
-    for (std::size_t pair : parallel_pairs) tasks.push_back({pair});
-
-    std::mutex progress_mutex;
-    std::size_t done = 0;
-    auto run_task = [&](std::size_t t) {
-        for (std::size_t pair : tasks[t]) {
-            report.results[pair] = run_stress_case(cases[pair / n_sim], *request.simulators[pair % n_sim],
-                                                   request.budget_seconds);
-            std::lock_guard lock(progress_mutex);
-            ++done;
-            if (request.on_progress) request.on_progress(report.results[pair], done, total);
-        }
+    PairSchedule schedule;
+    schedule.jobs = request.jobs;
+    schedule.cost = [&](std::size_t c) { return cases[c].scenario.duration / cases[c].scenario.dt; };
+    schedule.run = [&](std::size_t e, std::size_t c) {
+        report.results[c * n_sim + e] = run_stress_case(cases[c], *request.simulators[e], request.budget_seconds);
     };
-    const int jobs = request.jobs > 0 ? request.jobs : tbb::info::default_concurrency();
-    tbb::task_arena arena(jobs);
-    // One task per iteration: a serial engine's long task must not hold up others in its chunk.
-    arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tasks.size(), 1),
-                          [&](const tbb::blocked_range<std::size_t>& range) {
-                              for (std::size_t t = range.begin(); t != range.end(); ++t) run_task(t);
-                          },
-                          tbb::simple_partitioner());
-    });
+    schedule.finished = [&](std::size_t e, std::size_t c, std::size_t done) {
+        if (request.on_progress) request.on_progress(report.results[c * n_sim + e], done, total);
+    };
+    run_pairs_in_parallel(request.simulators, cases.size(), schedule);
     report.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     return report;
 }

@@ -4,11 +4,6 @@
 #include "compare/run.h"
 
 #include <fmt/format.h>
-#include <tbb/info.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/partitioner.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cctype>
@@ -17,7 +12,6 @@
 #include <cstdlib>
 #include <exception>
 #include <limits>
-#include <mutex>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -90,15 +84,6 @@ DtParse parse_dt_list(std::string_view text) {
     return out;
 }
 
-std::optional<std::string_view> serial_engine_reason(std::string_view engine) {
-    // Debian's libode 0.16 is built without ODE_EXT_ou (no thread-local
-    // collision data): dAllocateODEDataForThread does not make its global
-    // state per thread, so two ODE worlds must not step at the same time.
-    if (engine == "ode") return "libode is built without ODE_EXT_ou: its global state is shared between threads";
-    // Box2D 2.4 counts GJK and TOI calls in unsynchronised globals.
-    if (engine == "box2d") return "Box2D 2.4 updates global statistics counters (b2_gjkCalls, b2_toiCalls)";
-    return std::nullopt;
-}
 
 namespace {
 
@@ -188,47 +173,17 @@ SweepResult run_sweep(const Scenario& s, const SweepRequest& request) {
     SweepResult result;
     result.rows.resize(total);
 
-    // Tasks: one per pair, except that an engine with shared state runs all
-    // its pairs in one task, one after another. Costliest first (smallest dt).
-    std::vector<std::vector<std::size_t>> tasks;
-    std::vector<std::size_t> parallel_pairs;
-    for (std::size_t e = 0; e < request.simulators.size(); ++e) {
-        if (serial_engine_reason(request.simulators[e]->name())) {
-            std::vector<std::size_t> group;
-            for (std::size_t d = 0; d < n_dt; ++d) group.push_back(e * n_dt + d);
-            tasks.push_back(std::move(group));
-        } else {
-            for (std::size_t d = 0; d < n_dt; ++d) parallel_pairs.push_back(e * n_dt + d);
-        }
-    }
-    std::stable_sort(parallel_pairs.begin(), parallel_pairs.end(), [&](std::size_t a, std::size_t b) {
-        return request.dts[a % n_dt] < request.dts[b % n_dt];
-    });
-    for (std::size_t pair : parallel_pairs) tasks.push_back({pair});
-
-    std::mutex progress_mutex;
-    std::size_t done = 0;
     const int repeat = std::max(1, request.repeat);
-    auto run_task = [&](std::size_t t) {
-        for (std::size_t pair : tasks[t]) {
-            const Simulator& sim = *request.simulators[pair / n_dt];
-            result.rows[pair] = run_pair(s, sim, request.dts[pair % n_dt], repeat);
-            std::lock_guard lock(progress_mutex);
-            ++done;
-            if (request.on_progress) request.on_progress(result.rows[pair], done, total);
-        }
+    PairSchedule schedule;
+    schedule.jobs = request.jobs;
+    schedule.cost = [&](std::size_t d) { return 1.0 / request.dts[d]; };  // steps: the smallest dt costs most
+    schedule.run = [&](std::size_t e, std::size_t d) {
+        result.rows[e * n_dt + d] = run_pair(s, *request.simulators[e], request.dts[d], repeat);
     };
-    const int jobs = request.jobs > 0 ? request.jobs : tbb::info::default_concurrency();
-    tbb::task_arena arena(jobs);
-    // One task per chunk: the costliest start first, the cheap ones fill in.
-    arena.execute([&] {
-        tbb::parallel_for(
-            tbb::blocked_range<std::size_t>(0, tasks.size(), 1),
-            [&](const tbb::blocked_range<std::size_t>& r) {
-                for (std::size_t t = r.begin(); t != r.end(); ++t) run_task(t);
-            },
-            tbb::simple_partitioner());
-    });
+    schedule.finished = [&](std::size_t e, std::size_t d, std::size_t done) {
+        if (request.on_progress) request.on_progress(result.rows[e * n_dt + d], done, total);
+    };
+    run_pairs_in_parallel(request.simulators, n_dt, schedule);
 
     for (const Simulator* sim : request.simulators) result.orders.push_back(fit_order(result.rows, std::string(sim->name())));
     return result;

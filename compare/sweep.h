@@ -4,6 +4,7 @@
 #pragma once
 
 #include "adapters/simulator.h"
+#include "compare/parallel_pairs.h"
 #include "compare/summary.h"
 #include "scenarios/scenario.h"
 
@@ -70,10 +71,6 @@ struct SweepRequest {
     // Called (under a lock, from a worker thread) as each pair finishes.
     std::function<void(const SweepRow& row, std::size_t done, std::size_t total)> on_progress;
 };
-
-// Engines whose pairs run one after another, never alongside each other
-// (a shared library state that is not safe across threads), with the reason.
-std::optional<std::string_view> serial_engine_reason(std::string_view engine);
 
 // Runs every (simulator, dt) pair, in parallel over pairs (oneTBB). Every
 // pair's result has its own slot, so the rows do not depend on `jobs` (only
