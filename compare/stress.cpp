@@ -200,11 +200,11 @@ struct BudgetExceeded {
 // summary's StreamRecorder measures, when the run completes.
 class InvariantWatch final : public StateSink {
 public:
-    InvariantWatch(const Scenario& s, const StressLimits& limits) : s_(s), limits_(limits) {}
+    InvariantWatch(const Scenario& s, const StressLimits& limits) : s_(s), walls_(s), limits_(limits) {}
 
     void write(const State& st) override {
         using clock = std::chrono::steady_clock;
-        const double energy = specific_energy(st, s_.gravity, s_.dim);
+        const double energy = specific_energy(st, s_.gravity);
         if (states_ == 0) {
             energy0_ = energy;
             start_ = block_start_ = clock::now();
@@ -213,7 +213,7 @@ public:
         bool finite = std::isfinite(st.t);
         for (int i = 0; i < s_.dim; ++i) finite = finite && std::isfinite(st.p[i]) && std::isfinite(st.v[i]);
         if (!finite && !non_finite_t_) non_finite_t_ = st.t;
-        const double penetration = wall_penetration(st, s_.room, s_.radius, s_.dim);
+        const double penetration = walls_.penetration(st.p);
         note(st.t, penetration, limits_.penetration, penetration_);
         note(st.t, energy - energy0_, limits_.energy_rise, energy_);
         ++states_;
@@ -253,6 +253,7 @@ private:
     }
 
     const Scenario& s_;
+    WallLimits walls_;
     StressLimits limits_;
     std::int64_t states_ = 0;
     double energy0_ = 0;

@@ -5,8 +5,10 @@
 #include "adapters/state.h"
 #include "scenarios/scenario.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -60,11 +62,27 @@ inline constexpr std::size_t kReportedApexes = 5;  // in the terminal summary
 // exact: at the instant.
 ContactEvent measure_contact(double t, int axis, int side, const Vec3& v_before, const Vec3& v_after, int dim);
 
-// How far the ball's surface reaches beyond the nearest wall it overlaps (m):
-// the largest of r - p_i and p_i - (room_i - r); <= 0 while clear of every wall.
-double wall_penetration(const State& s, const Vec3& room, double radius, int dim);
-// Mechanical energy per unit mass (J/kg): 0.5 |v|^2 - g.p.
-double specific_energy(const State& s, const Vec3& gravity, int dim);
+// Where the ball's centre touches the walls: per axis r (lower) and size - r
+// (upper); unused axes (z in 2D) are unbounded. Every per-state measure runs
+// over all three axes with these, a loop the compiler unrolls.
+struct WallLimits {
+    explicit WallLimits(const Scenario& s);
+    Vec3 low, high;
+    // How far the ball's surface reaches beyond the nearest wall it overlaps
+    // (m): the largest of r - p_i and p_i - (size_i - r); <= 0 while clear.
+    double penetration(const Vec3& p) const {
+        double deepest = -std::numeric_limits<double>::infinity();
+        for (int i = 0; i < 3; ++i) deepest = std::max(deepest, std::max(low[i] - p[i], p[i] - high[i]));
+        return deepest;
+    }
+};
+// Mechanical energy per unit mass (J/kg): 0.5 |v|^2 - g.p (the unused axis
+// has g = p = 0 and subtracts an exact zero).
+inline double specific_energy(const State& s, const Vec3& gravity) {
+    double energy = 0.5 * s.v.squaredNorm();
+    for (int i = 0; i < 3; ++i) energy -= gravity[i] * s.p[i];
+    return energy;
+}
 
 // Consumes a simulator's state stream: counts and measures contacts, finds
 // apexes (the highest sample between floor contacts, refined by the parabola
@@ -115,7 +133,8 @@ private:
     StateSink* sink_;
     int dim_;
     int vertical_;
-    Vec3 low_limit_, high_limit_;  // centre positions beyond which the ball has left the room
+    Vec3 low_limit_, high_limit_;  // centre positions beyond which the ball has left the room (unused axes: infinite)
+    WallLimits walls_;
     std::int64_t states_ = 0, contacts_ = 0, floor_contacts_ = 0, apex_count_ = 0;
     std::vector<Apex> apexes_;
     std::vector<ContactEvent> contact_events_;
