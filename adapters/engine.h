@@ -69,7 +69,6 @@ public:
     ContactMask detect(const State& previous, const State& current) const;
 
 private:
-    int dim_;
     double radius_;
     Vec3 room_;
     double dt_;
