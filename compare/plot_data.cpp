@@ -6,6 +6,11 @@
 
 namespace bouncecheck {
 
+std::int64_t plot_stride(std::int64_t states, std::size_t budget) {
+    const std::int64_t b = std::max<std::int64_t>(1, static_cast<std::int64_t>(budget));
+    return std::max<std::int64_t>(1, (states + b - 1) / b);
+}
+
 std::int64_t expected_states(const Scenario& s) {
     // An estimate is enough for a stride: the document's clock can take one
     // step more or fewer than duration / dt.
@@ -16,11 +21,6 @@ std::int64_t expected_states(const Scenario& s) {
 
 namespace {
 
-std::int64_t stride_for(std::int64_t states, std::size_t budget) {
-    const std::int64_t b = std::max<std::int64_t>(1, static_cast<std::int64_t>(budget));
-    return std::max<std::int64_t>(1, (states + b - 1) / b);
-}
-
 bool reverses(const Vec3& before, const Vec3& after) {
     for (int i = 0; i < 3; ++i)
         if ((before[i] > 0 && after[i] <= 0) || (before[i] < 0 && after[i] >= 0)) return true;
@@ -29,7 +29,7 @@ bool reverses(const Vec3& before, const Vec3& after) {
 
 }  // namespace
 
-TraceDecimator::TraceDecimator(std::int64_t expected, std::size_t budget) : stride_(stride_for(expected, budget)) {}
+TraceDecimator::TraceDecimator(std::int64_t expected, std::size_t budget) : stride_(plot_stride(expected, budget)) {}
 
 void TraceDecimator::keep(const State& s) {
     trace_.t.push_back(s.t);
@@ -93,7 +93,7 @@ PlotTrace exact_plot_trace(const ExactModel& exact, const Scenario& s, std::size
     }
     std::sort(events.begin(), events.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
 
-    const std::int64_t stride = stride_for(expected_states(s), budget);
+    const std::int64_t stride = plot_stride(expected_states(s), budget);
     PlotTrace trace;
     std::size_t next_event = 0;
     std::int64_t index = 0;

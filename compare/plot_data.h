@@ -70,5 +70,7 @@ PlotTrace exact_plot_trace(const ExactModel& exact, const Scenario& s, std::size
 
 // The states a scenario's run streams on the document clock (initial one included).
 std::int64_t expected_states(const Scenario& s);
+// Every how many states a plotted series keeps one, for about `budget` of them.
+std::int64_t plot_stride(std::int64_t states, std::size_t budget = kPlotPoints);
 
 }  // namespace bouncecheck

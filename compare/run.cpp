@@ -141,7 +141,7 @@ Outcome run_one(const Simulator& sim, const Scenario& s, const RunRequest& reque
     const std::int64_t states = expected_states(s);
     if (request.plots) {
         trace.emplace(states);
-        comparer.record_series(std::max<std::int64_t>(1, states / static_cast<std::int64_t>(kPlotPoints)));
+        comparer.record_series(plot_stride(states));
     }
     try {
         std::optional<TrajectoryCsv> csv;

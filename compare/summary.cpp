@@ -32,8 +32,7 @@ ContactEvent measure_contact(double t, int axis, int side, const Vec3& v_before,
 }
 
 StreamRecorder::StreamRecorder(const Scenario& s, StateSink* sink)
-    : sink_(sink), dim_(s.dim), vertical_(s.vertical_axis()), walls_(s), radius_(s.radius), room_(s.room),
-      gravity_(s.gravity) {
+    : sink_(sink), dim_(s.dim), vertical_(s.vertical_axis()), walls_(s), gravity_(s.gravity) {
     // The ball has escaped when its centre is beyond a wall's plane: it has
     // sunk into the wall by more than its radius.
     for (int i = 0; i < 3; ++i) {

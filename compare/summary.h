@@ -140,8 +140,7 @@ private:
     std::vector<ContactEvent> contact_events_;
     Apex apex_;
     double apex_before_ = 0, apex_after_ = 0;  // heights of the samples around the apex sample
-    double radius_;
-    Vec3 room_, gravity_;
+    Vec3 gravity_;
     double energy0_ = 0, energy_max_rise_ = 0, max_penetration_ = 0;
     bool apex_open_ = false;
     State last_;
