@@ -35,11 +35,6 @@ Scenario seed(const char* name) {
     return s;
 }
 
-struct VectorSink final : StateSink {
-    std::vector<State> states;
-    void write(const State& s) override { states.push_back(s); }
-};
-
 struct Box2dRun {
     SimulatorSummary summary;
     std::vector<State> states;
@@ -47,7 +42,7 @@ struct Box2dRun {
 
 Box2dRun run_box2d(const Scenario& s, const box2d::Tuning& tuning = {}) {
     const auto sim = box2d::make_simulator(tuning);
-    VectorSink sink;
+    StateVector sink;
     Box2dRun r;
     r.summary = sim->run(s, &sink);
     r.states = std::move(sink.states);

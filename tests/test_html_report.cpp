@@ -2,6 +2,7 @@
 // series keep every spike, exact's path has its contacts at their instants,
 // and the page is self-contained and parses back to the run's numbers.
 // (Rendering in a real browser: tests/browser/check_pages.sh.)
+#include "adapters/simulator.h"
 #include "compare/plot_data.h"
 #include "compare/report.h"
 #include "compare/run.h"
@@ -24,15 +25,9 @@ namespace {
 
 Scenario seed(const char* name) { return load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/" + name); }
 
-// Every state of a simulator, in memory.
-struct AllStates final : StateSink {
-    std::vector<State> states;
-    void write(const State& s) override { states.push_back(s); }
-};
-
 TEST(TraceDecimator, KeepsEveryVerticalReversalWithinTheBudget) {
     const Scenario s = seed("seed-3d.toml");
-    AllStates all;
+    StateVector all;
     TraceDecimator decimator(expected_states(s), 100);
     TeeSink both{&all, &decimator};
     make_reference_simulator()->run(s, &both);
