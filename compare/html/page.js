@@ -121,7 +121,7 @@
     }, true);
   }
 
-  function heightPlot(grid, id, scenario, vertical, ran) {
+  function heightPlot(grid, id, vertical, ran) {
     const traces = [];
     for (const s of ran) {
       traces.push({ x: s.plot.path.t, y: s.plot.path[AXES[vertical]], mode: "lines", name: s.name, legendgroup: s.name,
@@ -136,7 +136,7 @@
     }, true);
   }
 
-  function apexPlot(grid, id, scenario, plots, ran) {
+  function apexPlot(grid, id, plots, ran) {
     const shown = 12;
     const traces = [];
     for (const s of ran) {
@@ -246,8 +246,8 @@
     const id = (kind) => "plot-" + index + "-" + kind;
     if (plots) {
       pathPlot(grid, id("path"), s, ran);
-      apexPlot(grid, id("apex"), s, plots, ran);
-      heightPlot(grid, id("height"), s, plots.vertical, ran);
+      apexPlot(grid, id("apex"), plots, ran);
+      heightPlot(grid, id("height"), plots.vertical, ran);
       distancePlot(grid, id("divergence"), "divergence", "Divergence from the reference (largest per window)", ran, "reference", "divergence");
       distancePlot(grid, id("error"), "error", "Error against exact (largest per window)", ran, "exact", "error");
       dampingPlot(grid, id("normal"), "normal", "Normal coefficient per contact", s, ran, "normal", "alpha", s.alpha);
