@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace bouncecheck {
 
@@ -24,16 +25,11 @@ StreamContactDetector::StreamContactDetector(const Scenario& s)
       // what gravity adds in a step; a hundredth of that is not an impact.
       min_impact_speed_(0.01 * s.gravity.norm() * s.dt + 1e-12) {}
 
-ContactMask StreamContactDetector::detect(const State& previous, const State& current) const {
+ContactMask StreamContactDetector::contacts_of(const State& previous, const State& current) const {
     ContactMask mask;
-    // All three axes, a loop the compiler unrolls: an unused axis has v = 0,
-    // which never counts as a reversal.
     for (int i = 0; i < 3; ++i) {
-        // A reversal first: on most steps there is none, and the distance
-        // test is not needed.
         const bool reversed_down = previous.v[i] < -min_impact_speed_ && current.v[i] >= 0;
         const bool reversed_up = previous.v[i] > min_impact_speed_ && current.v[i] <= 0;
-        if (!reversed_down && !reversed_up) continue;
         // Near enough to have touched during the step: one step of travel at
         // the incoming speed, plus a tenth of the radius for contact margins.
         const double reach = std::abs(previous.v[i]) * dt_ + 0.1 * radius_;
@@ -42,6 +38,30 @@ ContactMask StreamContactDetector::detect(const State& previous, const State& cu
     }
     return mask;
 }
+
+namespace {
+
+// The shared loop, for a scene of D dimensions: the per-step checks look at
+// those axes only.
+template <int D>
+void step_to_end(const Scenario& s, EngineWorld& world, int substeps, StreamRecorder& recorder,
+                 const StreamContactDetector& detector) {
+    // Two states read into in turn: the previous one is kept, not copied.
+    State states[2] = {State{0.0, s.position, s.velocity}, State{}};
+    State* previous = &states[0];
+    State* current = &states[1];
+    recorder.on_state<D>(*previous, ContactMask{});
+    for (DocumentClock clock(s.dt, s.duration); clock.running() && !recorder.failed();) {
+        for (int i = 0; i < substeps; ++i) world.step();
+        clock.advance();
+        world.read(*current);
+        current->t = clock.t();
+        recorder.on_state<D>(*current, detector.detect<D>(*previous, *current));
+        std::swap(previous, current);
+    }
+}
+
+}  // namespace
 
 std::optional<std::string> EngineSimulator::cannot_run(const Scenario& s) const {
     const EngineCapabilities caps = capabilities();
@@ -71,19 +91,8 @@ SimulatorSummary EngineSimulator::run(const Scenario& s, StateSink* sink) const 
                                      substeps == 1 ? "" : "s", engine_scenario.dt),
              substeps == 1 ? "one engine step per scenario step (the document's step)"
                            : "scenario [engines.<name>] substeps: shorter engine steps against fast balls and large dt"});
-        // Two states read into in turn: the previous one is kept, not copied.
-        State states[2] = {State{0.0, s.position, s.velocity}, State{}};
-        recorder.on_state(states[0], ContactMask{});
-        int previous = 0;
-        for (DocumentClock clock(s.dt, s.duration); clock.running() && !recorder.failed();) {
-            for (int i = 0; i < substeps; ++i) world->step();
-            clock.advance();
-            State& current = states[1 - previous];
-            world->read(current);
-            current.t = clock.t();
-            recorder.on_state(current, detector.detect(states[previous], current));
-            previous = 1 - previous;
-        }
+        if (s.dim == 2) step_to_end<2>(s, *world, substeps, recorder, detector);
+        else step_to_end<3>(s, *world, substeps, recorder, detector);
     });
     recorder.finish(out);
     return out;

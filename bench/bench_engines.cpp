@@ -6,9 +6,10 @@
 // include building the world. Bullet and ODE run seed-3d, Box2D seed-2d
 // (it is a 2D engine).
 //
-//   taskset -c 1 build/bench/bench_engines --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+//   taskset -c 1 build/bench/bench_engines --benchmark_filter=Paired --benchmark_min_time=5
 //
-// Target: EngineRun within 5% of EngineBare per engine (bench/README.md).
+// Target: EngineRun within 5% of EngineBare per engine; EnginePaired_<engine>
+// measures it side by side as `overhead_pct` (bench/README.md).
 #include "adapters/engine.h"
 #include "reference/document_clock.h"
 #include "scenarios/loader.h"
@@ -26,6 +27,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -43,22 +45,25 @@ Scenario bundled(const std::string& file) {
 using BuildWorld = std::function<std::unique_ptr<EngineWorld>(const Scenario&, const EngineOptions&,
                                                               std::vector<SimulatorSummary::Setting>&)>;
 
-// The engine's own steps and nothing else: no clock, no read-back, no recording.
-void bare(benchmark::State& state, const Scenario& s, const std::string& engine, const BuildWorld& build) {
-    const EngineOptions options = s.engine_options(engine);
-    const std::int64_t steps = document_step_count(s.dt, s.duration);
-    // The same substeps as the shared loop: a world built for dt / substeps.
+// The engine's own steps and nothing else: no clock, no read-back, no
+// recording. The same substeps as the shared loop: a world built for
+// dt / substeps, stepped that many times per scenario step.
+State run_bare(const Scenario& s, const EngineOptions& options, std::int64_t steps, const BuildWorld& build) {
     const int substeps = std::max(1, options.substeps);
     Scenario engine_scenario = s;
     engine_scenario.dt = s.dt / substeps;
-    for (auto _ : state) {
-        std::vector<SimulatorSummary::Setting> settings;
-        const std::unique_ptr<EngineWorld> world = build(engine_scenario, options, settings);
-        for (std::int64_t n = 0; n < steps * substeps; ++n) world->step();
-        State last;
-        world->read(last);
-        benchmark::DoNotOptimize(last);
-    }
+    std::vector<SimulatorSummary::Setting> settings;
+    const std::unique_ptr<EngineWorld> world = build(engine_scenario, options, settings);
+    for (std::int64_t n = 0; n < steps * substeps; ++n) world->step();
+    State last;
+    world->read(last);
+    return last;
+}
+
+void bare(benchmark::State& state, const Scenario& s, const std::string& engine, const BuildWorld& build) {
+    const EngineOptions options = s.engine_options(engine);
+    const std::int64_t steps = document_step_count(s.dt, s.duration);
+    for (auto _ : state) benchmark::DoNotOptimize(run_bare(s, options, steps, build));
     state.counters["per_step"] = benchmark::Counter(static_cast<double>(steps * state.iterations()),
                                                        benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
@@ -76,45 +81,95 @@ void adapter(benchmark::State& state, const Scenario& s, const Simulator& sim) {
                                                        benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
+// Both side by side: every iteration times one bare run and one adapter run
+// back to back, in alternating order, and `overhead_pct` is the median over
+// the iterations of 100 (adapter / bare - 1). Load that drifts over seconds
+// moves both runs of a pair alike and cancels in the ratio, which separate
+// EngineBare and EngineRun medians cannot do on a shared machine.
+void paired(benchmark::State& state, const Scenario& s, const Simulator& sim, const BuildWorld& build) {
+    const EngineOptions options = s.engine_options(std::string(sim.name()));
+    const std::int64_t steps = document_step_count(s.dt, s.duration);
+    using Clock = std::chrono::steady_clock;
+    auto seconds = [](auto&& f) {
+        const auto start = Clock::now();
+        f();
+        return std::chrono::duration<double>(Clock::now() - start).count();
+    };
+    std::vector<double> ratios;
+    for (auto _ : state) {
+        double bare_s = 0, adapter_s = 0;
+        auto time_bare = [&] { bare_s = seconds([&] { benchmark::DoNotOptimize(run_bare(s, options, steps, build)); }); };
+        auto time_adapter = [&] {
+            adapter_s = seconds([&] {
+                const SimulatorSummary summary = sim.run(s, nullptr);
+                if (summary.status != RunStatus::ok) state.SkipWithError(summary.reason.c_str());
+                benchmark::DoNotOptimize(summary.final_state);
+            });
+        };
+        if (ratios.size() % 2 == 0) {
+            time_bare();
+            time_adapter();
+        } else {
+            time_adapter();
+            time_bare();
+        }
+        ratios.push_back(adapter_s / bare_s);
+    }
+    std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+    state.counters["overhead_pct"] = 100 * (ratios[ratios.size() / 2] - 1);
+    state.counters["pairs"] = static_cast<double>(ratios.size());
+}
+
+// One row per built engine: its scenario, its adapter, and its world as the
+// adapter builds it with the same tuning.
+struct EngineCase {
+    std::string engine, scenario;
+    std::unique_ptr<const Simulator> simulator;
+    BuildWorld build;
+};
+
+std::vector<EngineCase> engine_cases() {
+    std::vector<EngineCase> cases;
 #ifdef BOUNCECHECK_WITH_BULLET
-void EngineBare_bullet(benchmark::State& state) {
-    bare(state, bundled("seed-3d.toml"), "bullet", [](const Scenario& s, const EngineOptions& o, auto& settings) {
-        return std::unique_ptr<EngineWorld>(bullet::build_world(s, o, bullet::Tuning::chosen(), settings));
-    });
-}
-void EngineRun_bullet(benchmark::State& state) {
-    adapter(state, bundled("seed-3d.toml"), *bullet::make_simulator(bullet::Tuning::chosen()));
-}
-BENCHMARK(EngineBare_bullet)->Unit(benchmark::kMillisecond);
-BENCHMARK(EngineRun_bullet)->Unit(benchmark::kMillisecond);
+    cases.push_back({"bullet", "seed-3d.toml", bullet::make_simulator(bullet::Tuning::chosen()),
+                     [](const Scenario& s, const EngineOptions& o, auto& settings) {
+                         return std::unique_ptr<EngineWorld>(bullet::build_world(s, o, bullet::Tuning::chosen(), settings));
+                     }});
 #endif
-
 #ifdef BOUNCECHECK_WITH_ODE
-void EngineBare_ode(benchmark::State& state) {
-    bare(state, bundled("seed-3d.toml"), "ode", [](const Scenario& s, const EngineOptions& o, auto& settings) {
-        return std::unique_ptr<EngineWorld>(ode::build_world(s, o, ode::Tuning::chosen(), settings));
-    });
-}
-void EngineRun_ode(benchmark::State& state) {
-    adapter(state, bundled("seed-3d.toml"), *ode::make_simulator(ode::Tuning::chosen()));
-}
-BENCHMARK(EngineBare_ode)->Unit(benchmark::kMillisecond);
-BENCHMARK(EngineRun_ode)->Unit(benchmark::kMillisecond);
+    cases.push_back({"ode", "seed-3d.toml", ode::make_simulator(ode::Tuning::chosen()),
+                     [](const Scenario& s, const EngineOptions& o, auto& settings) {
+                         return std::unique_ptr<EngineWorld>(ode::build_world(s, o, ode::Tuning::chosen(), settings));
+                     }});
 #endif
-
 #ifdef BOUNCECHECK_WITH_BOX2D
-void EngineBare_box2d(benchmark::State& state) {
-    bare(state, bundled("seed-2d.toml"), "box2d", [](const Scenario& s, const EngineOptions& o, auto& settings) {
-        return box2d::build_world(s, o, box2d::Tuning{}, settings);
-    });
-}
-void EngineRun_box2d(benchmark::State& state) {
-    adapter(state, bundled("seed-2d.toml"), *box2d::make_simulator(box2d::Tuning{}));
-}
-BENCHMARK(EngineBare_box2d)->Unit(benchmark::kMillisecond);
-BENCHMARK(EngineRun_box2d)->Unit(benchmark::kMillisecond);
+    cases.push_back({"box2d", "seed-2d.toml", box2d::make_simulator(box2d::Tuning{}),
+                     [](const Scenario& s, const EngineOptions& o, auto& settings) {
+                         return box2d::build_world(s, o, box2d::Tuning{}, settings);
+                     }});
 #endif
+    return cases;
+}
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+    static const std::vector<EngineCase> cases = engine_cases();
+    for (const EngineCase& c : cases) {
+        const Scenario s = bundled(c.scenario);
+        benchmark::RegisterBenchmark(("EngineBare_" + c.engine).c_str(),
+                                     [&c, s](benchmark::State& st) { bare(st, s, c.engine, c.build); })
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("EngineRun_" + c.engine).c_str(),
+                                     [&c, s](benchmark::State& st) { adapter(st, s, *c.simulator); })
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("EnginePaired_" + c.engine).c_str(),
+                                     [&c, s](benchmark::State& st) { paired(st, s, *c.simulator, c.build); })
+            ->Unit(benchmark::kMillisecond);
+    }
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}

@@ -53,14 +53,8 @@ StreamRecorder::StreamRecorder(const Scenario& s, StateSink* sink)
     dt_ = s.dt;
 }
 
-void StreamRecorder::check(const State& s) {
+void StreamRecorder::diagnose(const State& s) {
     if (!failure_.empty()) return;
-    // The common case over all three axes (unused ones have infinite limits
-    // and zero state), unrolled; the message is composed only on a failure.
-    bool sound = true;
-    for (int i = 0; i < 3; ++i)
-        sound = sound && std::isfinite(s.v[i]) && s.p[i] >= low_limit_[i] && s.p[i] <= high_limit_[i];
-    if (sound) return;
     for (int i = 0; i < dim_; ++i) {
         if (!std::isfinite(s.p[i]) || !std::isfinite(s.v[i])) {
             failure_ = fmt::format("non-finite state at t = {:.6g}", s.t);
@@ -117,13 +111,6 @@ WallLimits::WallLimits(const Scenario& s) {
         low[i] = i < s.dim ? s.radius : -inf;
         high[i] = i < s.dim ? s.room[i] - s.radius : inf;
     }
-}
-
-void StreamRecorder::track_penetration_and_energy(const State& s) {
-    const double energy = specific_energy(s, gravity_);
-    max_penetration_ = std::max(max_penetration_, walls_.penetration(s.p));
-    if (states_ == 0) energy0_ = energy;
-    energy_max_rise_ = std::max(energy_max_rise_, energy - energy0_);
 }
 
 void StreamRecorder::finish(SimulatorSummary& out) {

@@ -64,23 +64,27 @@ ContactEvent measure_contact(double t, int axis, int side, const Vec3& v_before,
 
 // Where the ball's centre touches the walls: per axis r (lower) and size - r
 // (upper); unused axes (z in 2D) are unbounded. Every per-state measure runs
-// over all three axes with these, a loop the compiler unrolls.
+// over the first D axes with these, a loop the compiler unrolls: D = 3 is
+// always right (an unused axis is unbounded and its state zero, so it changes
+// no bit), D = 2 skips that axis's work in a 2D scene.
 struct WallLimits {
     explicit WallLimits(const Scenario& s);
     Vec3 low, high;
     // How far the ball's surface reaches beyond the nearest wall it overlaps
     // (m): the largest of r - p_i and p_i - (size_i - r); <= 0 while clear.
+    template <int D = 3>
     double penetration(const Vec3& p) const {
         double deepest = -std::numeric_limits<double>::infinity();
-        for (int i = 0; i < 3; ++i) deepest = std::max(deepest, std::max(low[i] - p[i], p[i] - high[i]));
+        for (int i = 0; i < D; ++i) deepest = std::max(deepest, std::max(low[i] - p[i], p[i] - high[i]));
         return deepest;
     }
 };
 // Mechanical energy per unit mass (J/kg): 0.5 |v|^2 - g.p (the unused axis
 // has g = p = 0 and subtracts an exact zero).
-inline double specific_energy(const State& s, const Vec3& gravity) {
-    double energy = 0.5 * s.v.squaredNorm();
-    for (int i = 0; i < 3; ++i) energy -= gravity[i] * s.p[i];
+template <int D = 3>
+double specific_energy(const State& s, const Vec3& gravity) {
+    double energy = 0.5 * s.v.head<D>().squaredNorm();
+    for (int i = 0; i < D; ++i) energy -= gravity[i] * s.p[i];
     return energy;
 }
 
@@ -93,13 +97,14 @@ class StreamRecorder {
 public:
     StreamRecorder(const Scenario& s, StateSink* sink);
 
+    // D: the axes to look at (see WallLimits); 2 only for a 2D scenario.
+    template <int D = 3>
     void on_state(const State& s, ContactMask contact) {
         if (sink_) sink_->write(s);
-        check(s);
+        track_bounds_and_energy<D>(s);
         if (contact.any()) count_contacts(s, contact);
         track_rest(s);
         track_apex(s);
-        track_penetration_and_energy(s);
         last_ = s;
         ++states_;
     }
@@ -109,7 +114,24 @@ public:
     void finish(SimulatorSummary& out);
 
 private:
-    void check(const State& s);
+    // Every state, inline and without a per-axis branch: the deepest
+    // penetration, the energy rise, and whether the state is sound (inside
+    // the room, finite). A non-finite position fails the room test; a
+    // non-finite velocity makes the energy NaN or +inf. Only an unsound
+    // state goes to diagnose(), which composes the failure.
+    template <int D>
+    void track_bounds_and_energy(const State& s) {
+        const double energy = specific_energy<D>(s, gravity_);
+        bool inside = true;
+        for (int i = 0; i < D; ++i) inside &= (s.p[i] >= low_limit_[i]) & (s.p[i] <= high_limit_[i]);
+        if (!(inside & (energy < std::numeric_limits<double>::infinity()))) diagnose(s);
+        if (states_ == 0) energy0_ = energy;
+        energy_max_rise_ = std::max(energy_max_rise_, energy - energy0_);
+        max_penetration_ = std::max(max_penetration_, walls_.penetration<D>(s.p));
+    }
+    // Records why a state is unsound (the first time); finds nothing when
+    // only the energy overflowed from a huge but finite velocity.
+    void diagnose(const State& s);
     void count_contacts(const State& s, ContactMask contact);
     void push_apex();
     void track_apex(const State& s) {
@@ -123,7 +145,6 @@ private:
             apex_after_ = height;
         }
     }
-    void track_penetration_and_energy(const State& s);
     void track_rest(const State& s) {
         const bool resting = s.p[vertical_] - floor_ <= rest_height_ && std::abs(s.v[vertical_]) <= rest_speed_;
         if (!resting) rest_since_.reset();

@@ -1,6 +1,7 @@
 // The part every engine adapter shares: contact detection from a state
 // stream, the stepping loop, failure handling, capability checks.
 #include "adapters/engine.h"
+#include "compare/summary.h"
 #include "reference/document_clock.h"
 #include "scenarios/loader.h"
 
@@ -49,6 +50,71 @@ TEST(StreamContactDetector, TurningInMidAirIsNotAContact) {
     EXPECT_FALSE(d.detect(at(0.7, 0.001), at(0.7, -0.002)).any());
     // Near the ceiling it is a ceiling contact.
     EXPECT_EQ(d.detect(at(0.949, 0.05), at(0.95, -0.04)).upper, 0b100);
+}
+
+// The inline screen (a sign change faster than the noise floor) lets a few
+// steps through to the full test; it must never change what is counted.
+TEST(StreamContactDetector, ScreenedStepsAreDecidedByTheFullTest) {
+    const StreamContactDetector d(seed3d());
+    // Same sign, product underflowing to zero: screened in, not a contact.
+    EXPECT_FALSE(d.detect(at(0.05, 1e-4), at(0.05, 4.9e-324)).any());
+    // -0 after rising into the ceiling stops the ball there: a contact.
+    EXPECT_EQ(d.detect(at(0.949, 0.05), at(0.95, -0.0)).upper, 0b100);
+    // A NaN velocity is never a contact (the recorder fails the run instead).
+    EXPECT_FALSE(d.detect(at(0.05, -0.05), at(0.05, std::nan(""))).any());
+}
+
+TEST(StreamContactDetector, TwoAxisCheckOfA2DSceneCountsWhatTheThreeAxisOneDoes) {
+    Scenario s = load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/seed-2d.toml");
+    const StreamContactDetector d(s);
+    auto at2 = [](double x, double y, double vx, double vy) { return State{0, {x, y, 0}, {vx, vy, 0}}; };
+    const State cases[][2] = {
+        {at2(0.06, 0.06, -0.1, -0.1), at2(0.05, 0.05, 0.08, 0.08)},  // the corner: two contacts
+        {at2(0.5, 0.94, 0.01, 0.1), at2(0.5, 0.95, 0.01, -0.08)},    // the ceiling
+        {at2(0.5, 0.5, 0.1, 0.001), at2(0.51, 0.5, 0.1, -0.002)},    // an apex in mid-air
+    };
+    for (const auto& c : cases) {
+        const ContactMask two = d.detect<2>(c[0], c[1]), three = d.detect<3>(c[0], c[1]);
+        EXPECT_EQ(two.lower, three.lower);
+        EXPECT_EQ(two.upper, three.upper);
+    }
+    EXPECT_EQ(d.detect<2>(cases[0][0], cases[0][1]).lower, 0b11);
+}
+
+// The recorder's per-state soundness test is fused with its energy: a
+// non-finite velocity on an axis without gravity must still fail the run,
+// and a finite velocity whose square overflows must not.
+TEST(StreamRecorder, NonFiniteVelocityFailsAndAHugeFiniteOneDoesNot) {
+    const Scenario s = seed3d();
+    for (const double bad : {std::nan(""), std::numeric_limits<double>::infinity(),
+                             -std::numeric_limits<double>::infinity()}) {
+        StreamRecorder recorder(s, nullptr);
+        recorder.on_state(State{0, s.position, s.velocity}, {});
+        recorder.on_state(State{s.dt, s.position, {bad, 0, 0}}, {});
+        SimulatorSummary out;
+        recorder.finish(out);
+        EXPECT_EQ(out.status, RunStatus::failed) << bad;
+        EXPECT_NE(out.reason.find("non-finite"), std::string::npos) << out.reason;
+    }
+    StreamRecorder recorder(s, nullptr);
+    recorder.on_state(State{0, s.position, s.velocity}, {});
+    recorder.on_state(State{s.dt, s.position, {1e200, 0, 0}}, {});
+    SimulatorSummary out;
+    recorder.finish(out);
+    EXPECT_EQ(out.status, RunStatus::ok) << out.reason;
+}
+
+TEST(StreamRecorder, ACentreBeyondAWallFailsEvenByOneUlp) {
+    const Scenario s = seed3d();
+    StreamRecorder recorder(s, nullptr);
+    recorder.on_state(State{0, s.position, s.velocity}, {});
+    Vec3 p = s.position;
+    p[1] = std::nextafter(s.room[1], 2.0);
+    recorder.on_state(State{s.dt, p, s.velocity}, {});
+    SimulatorSummary out;
+    recorder.finish(out);
+    EXPECT_EQ(out.status, RunStatus::failed);
+    EXPECT_NE(out.reason.find("left the room"), std::string::npos) << out.reason;
 }
 
 // A stand-in engine world: free flight with a hook to go wrong.

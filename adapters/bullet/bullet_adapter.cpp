@@ -99,13 +99,12 @@ public:
     void read(State& out) const override {
         const btVector3& p = ball_->getCenterOfMassPosition();
         const btVector3& v = ball_->getLinearVelocity();
-        out.p = Vec3::Zero();
-        out.v = Vec3::Zero();
-        for (int i = 0; i < dim_; ++i) {
-            const int e = engine_axis(dim_, i);
-            out.p[i] = scale_.from_engine_length(p[e]);
-            out.v[i] = scale_.from_engine_velocity(v[e]);
-        }
+        // Every step: SI units (no scaling); scenario axis 1 is Bullet's z in
+        // 2D (engine_axis), and z is 0 there.
+        static_assert(scale_.length == 1.0 && scale_.time == 1.0);
+        const int second = engine_axis(dim_, 1);
+        out.p = Vec3(p[0], p[second], dim_ == 3 ? p[2] : 0.0);
+        out.v = Vec3(v[0], v[second], dim_ == 3 ? v[2] : 0.0);
     }
 
     Vec3 engine_position() const override { return to_vec(ball_->getCenterOfMassPosition()); }
@@ -128,7 +127,7 @@ private:
 
     Tuning tuning_;
     int dim_;
-    UnitScale scale_;
+    static constexpr UnitScale scale_{1.0, 1.0};  // SI: see "unit_scale" below; read() relies on it
     btScalar dt_;
     bool per_contact_;
     double beta_;
@@ -167,7 +166,6 @@ BulletWorld::BulletWorld(const Scenario& s, const EngineOptions& options, const 
     // Units: SI. Every length-dependent default that matters (contact-breaking
     // threshold, margins, slop, sleeping thresholds) is set explicitly below, and
     // the walls are exact planes, so a scale would change nothing but round-off.
-    scale_ = UnitScale{1.0, 1.0};
     set("unit_scale", "length 1, time 1 (SI metres and seconds)",
         "double precision and every length-dependent default set explicitly (planes exact, breaking threshold, "
         "slop 0, no sleeping): a scale buys nothing at r = 5 cm");

@@ -99,6 +99,11 @@ public:
         dBodySetAngularVel(body_, 0, 0, 0);
         ball_ = dCreateSphere(space_, scale_.to_engine_length(s.radius));
         dGeomSetBody(ball_, body_);
+        // ODE returns the body's own arrays, valid until the system's
+        // structure changes (it never does once built): taken once here
+        // rather than by two library calls per step.
+        position_ = dBodyGetPosition(body_);
+        velocity_ = dBodyGetLinearVel(body_);
 
         // The walls: static planes n.p = d with n pointing into the room.
         for (const Wall& w : room_walls(s)) {
@@ -151,15 +156,12 @@ public:
         if (!ok) throw std::runtime_error("ODE step failed (out of memory)");
     }
 
+    // Every step: ODE runs in SI units (no scaling) and scenario axis i is
+    // ODE axis i; z is 0 in 2D (the planar joint's plane).
     void read(State& out) const override {
-        const dReal* p = dBodyGetPosition(body_);
-        const dReal* v = dBodyGetLinearVel(body_);
-        out.p = Vec3::Zero();
-        out.v = Vec3::Zero();
-        for (int i = 0; i < dim_; ++i) {
-            out.p[i] = scale_.from_engine_length(p[i]);
-            out.v[i] = scale_.from_engine_velocity(v[i]);
-        }
+        static_assert(scale_.length == 1.0 && scale_.time == 1.0);
+        out.p = Vec3(position_[0], position_[1], dim_ == 3 ? position_[2] : 0.0);
+        out.v = Vec3(velocity_[0], velocity_[1], dim_ == 3 ? velocity_[2] : 0.0);
     }
 
     Vec3 engine_position() const override {
@@ -314,7 +316,7 @@ private:
             "options.free_rotation");
     }
 
-    UnitScale scale_{};  // SI: see the file comment
+    static constexpr UnitScale scale_{};  // SI: see the file comment; read() relies on it
     int dim_;
     double alpha_, beta_, h_;
     EngineOptions options_;
@@ -325,6 +327,8 @@ private:
     dSpaceID space_ = nullptr;
     dJointGroupID contacts_ = nullptr;
     dBodyID body_ = nullptr;
+    const dReal* position_ = nullptr;
+    const dReal* velocity_ = nullptr;
     dGeomID ball_ = nullptr;
     dJointID plane_ = nullptr;
     dJointID lock_ = nullptr;
