@@ -44,7 +44,7 @@ namespace {
 // The shared loop, for a scene of D dimensions: the per-step checks look at
 // those axes only.
 template <int D>
-void step_to_end(const Scenario& s, EngineWorld& world, int substeps, StreamRecorder& recorder,
+void step_world_to_end(const Scenario& s, EngineWorld& world, int substeps, StreamRecorder& recorder,
                  const StreamContactDetector& detector) {
     // Two states read into in turn: the previous one is kept, not copied.
     State states[2] = {State{0.0, s.position, s.velocity}, State{}};
@@ -91,8 +91,8 @@ SimulatorSummary EngineSimulator::run(const Scenario& s, StateSink* sink) const 
                                      substeps == 1 ? "" : "s", engine_scenario.dt),
              substeps == 1 ? "one engine step per scenario step (the document's step)"
                            : "scenario [engines.<name>] substeps: shorter engine steps against fast balls and large dt"});
-        if (s.dim == 2) step_to_end<2>(s, *world, substeps, recorder, detector);
-        else step_to_end<3>(s, *world, substeps, recorder, detector);
+        if (s.dim == 2) step_world_to_end<2>(s, *world, substeps, recorder, detector);
+        else step_world_to_end<3>(s, *world, substeps, recorder, detector);
     });
     recorder.finish(out);
     return out;

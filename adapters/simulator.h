@@ -38,17 +38,6 @@ public:
 // Every simulator this build contains, `reference` and `exact` first.
 std::vector<std::unique_ptr<const Simulator>> built_simulators();
 
-// The shared stepping loop of the stepped simulators: the initial state, then
-// one state per step until the model's clock ends or the recorder flags a failure.
-template <class Model>
-void step_to_end(Model& model, StreamRecorder& recorder) {
-    recorder.on_state(model.state(), ContactMask{});
-    while (model.running() && !recorder.failed()) {
-        const ContactMask contact = model.step();
-        recorder.on_state(model.state(), contact);
-    }
-}
-
 // Keeps every state in memory.
 class StateVector final : public StateSink {
 public:

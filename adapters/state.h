@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <initializer_list>
+#include <vector>
 
 namespace bouncecheck {
 
@@ -15,12 +16,51 @@ struct State {
     Vec3 v = Vec3::Zero();
 };
 
+// Walls a simulator reports touching in one step, one bit per axis.
+struct ContactMask {
+    std::uint8_t lower = 0;
+    std::uint8_t upper = 0;
+    bool any() const { return (lower | upper) != 0; }
+};
+
+// The rest of a run whose states have become periodic (the reference's
+// micro-bounce at rest repeats bit for bit; exact at rest is constant): tail
+// state k (k = 0 .. count - 1) has the position, velocity and contacts of
+// cycle[k % cycle.size()] and the time t_k = t_{k-1} + dt from t_{-1} =
+// t_before, the document clock's own additions. A simulator hands this over
+// instead of stepping on (see StreamRecorder::on_periodic_tail).
+struct PeriodicTail {
+    std::vector<State> cycle;           // t unused
+    std::vector<ContactMask> contacts;  // per cycle state
+    std::int64_t count = 0;
+    double t_before = 0, dt = 0;
+    std::int64_t period() const { return static_cast<std::int64_t>(cycle.size()); }
+    // Calls f(state, contact) for every tail state, in order.
+    template <class F>
+    void for_each(F&& f) const {
+        double t = t_before;
+        std::size_t k = 0;
+        for (std::int64_t n = 0; n < count; ++n) {
+            t = t + dt;
+            State s = cycle[k];
+            s.t = t;
+            f(s, contacts[k]);
+            if (++k == cycle.size()) k = 0;
+        }
+    }
+};
+
 // Where a simulator's states go when someone wants them all: a trajectory
 // file, or memory (calibration, tests). Runs that need only metrics pass none.
 class StateSink {
 public:
     virtual ~StateSink() = default;
     virtual void write(const State& s) = 0;
+    // The run's remaining states, periodic. By default each one is written;
+    // a sink that can take them faster overrides this, with the same result.
+    virtual void write_periodic(const PeriodicTail& tail) {
+        tail.for_each([this](const State& s, ContactMask) { write(s); });
+    }
 };
 
 // Passes every state to each of a few sinks (null ones are left out).
@@ -32,6 +72,9 @@ public:
     }
     void write(const State& s) override {
         for (int i = 0; i < count_; ++i) sinks_[i]->write(s);
+    }
+    void write_periodic(const PeriodicTail& tail) override {
+        for (int i = 0; i < count_; ++i) sinks_[i]->write_periodic(tail);
     }
 
 private:
@@ -54,13 +97,6 @@ struct ContactEvent {
     double normal_coefficient = 0;    // |v_n after| / |v_n before|: alpha in the model
     double tangential_retention = 0;  // |v_t after| / |v_t before|: beta in the model; NaN if undefined
     double normal_speed_in = 0;       // |v_n before|
-};
-
-// Walls a simulator reports touching in one step, one bit per axis.
-struct ContactMask {
-    std::uint8_t lower = 0;
-    std::uint8_t upper = 0;
-    bool any() const { return (lower | upper) != 0; }
 };
 
 }  // namespace bouncecheck

@@ -113,6 +113,56 @@ WallLimits::WallLimits(const Scenario& s) {
     }
 }
 
+void StreamRecorder::on_periodic_tail(const PeriodicTail& tail) {
+    if (tail.count <= 0 || tail.cycle.empty()) return;
+    if (sink_) sink_->write_periodic(tail);
+    filled_from_ = tail.t_before + tail.dt;
+    fill_period_ = tail.period();
+    // Replays tail states one by one (the sink has had them already).
+    StateSink* const sink = sink_;
+    sink_ = nullptr;
+    const std::int64_t period = tail.period();
+    double t = tail.t_before;
+    std::int64_t done = 0;
+    std::size_t phase = 0;
+    auto replay = [&](std::int64_t states) {
+        for (std::int64_t i = 0; i < states; ++i, ++done) {
+            t = t + tail.dt;
+            State s = tail.cycle[phase];
+            s.t = t;
+            on_state(s, tail.contacts[phase]);
+            if (++phase == tail.cycle.size()) phase = 0;
+        }
+    };
+    // What one whole cycle adds to the counts. The recorder has seen the
+    // cycle before the tail, so from the tail's start it repeats too.
+    const std::int64_t contacts_before = contacts_, floor_before = floor_contacts_, apexes_before = apex_count_;
+    replay(std::min(period, tail.count));
+    const std::int64_t cycle_contacts = contacts_ - contacts_before;
+    const std::int64_t cycle_floor = floor_contacts_ - floor_before;
+    const std::int64_t cycle_apexes = apex_count_ - apexes_before;
+    // Whole cycles one by one while they still add kept contacts or apexes.
+    auto lists_grow = [&] {
+        return (cycle_contacts > 0 && contact_events_.size() < kKeptContacts) ||
+               (cycle_apexes > 0 && apexes_.size() < kKeptApexes);
+    };
+    while (tail.count - done >= 2 * period && lists_grow()) replay(period);
+    // Whole cycles counted, not replayed, keeping one whole cycle and the
+    // remainder to replay, so that what depends on the times of the last
+    // states (rest start, the open apex, the final state) is as stepped.
+    const std::int64_t skipped = (tail.count - done) / period - 1;
+    if (skipped > 0) {
+        for (std::int64_t i = 0; i < skipped * period; ++i) t = t + tail.dt;  // the clock's own rounding
+        done += skipped * period;
+        states_ += skipped * period;
+        contacts_ += skipped * cycle_contacts;
+        floor_contacts_ += skipped * cycle_floor;
+        apex_count_ += skipped * cycle_apexes;
+    }
+    replay(tail.count - done);
+    sink_ = sink;
+}
+
 void StreamRecorder::finish(SimulatorSummary& out) {
     // A last interval whose highest sample is not its final one did turn over.
     if (apex_open_ && apex_.t < last_.t) push_apex();
@@ -125,6 +175,8 @@ void StreamRecorder::finish(SimulatorSummary& out) {
     out.energy_max_rise = energy_max_rise_;
     out.apex_count = apex_count_;
     out.final_state = last_;
+    out.filled_from = filled_from_;
+    out.fill_period = fill_period_;
     // A rest must last: ten steps at least, so that the last samples of a
     // bouncing run do not count.
     if (rest_since_ && last_.t - *rest_since_ >= kRestSteps * dt_) out.rest_time = rest_since_;

@@ -44,6 +44,10 @@ struct SimulatorSummary {
         std::string key, value, why;
     };
     std::vector<Setting> settings;
+    // From this time on the run's states were periodic and handed over, not
+    // stepped (PeriodicTail): the period in steps (1: a state at rest).
+    std::optional<double> filled_from;
+    std::int64_t fill_period = 0;
     double run_seconds = 0;  // wall time of the run, recording included; NaN: not reported (--no-timings)
     std::string trajectory_file;  // relative to the output folder, if written
 };
@@ -109,6 +113,12 @@ public:
         ++states_;
     }
 
+    // The run's remaining states, periodic: passed to the sink as a tail, and
+    // recorded with what stepping on would give, bit for bit (counts, kept
+    // contacts and apexes, maxima, rest, final state), without recording each
+    // state: whole cycles in the middle are counted, not replayed.
+    void on_periodic_tail(const PeriodicTail& tail);
+
     bool failed() const { return !failure_.empty(); }
     // Fills counts, apexes, status and final state; the caller adds timing.
     void finish(SimulatorSummary& out);
@@ -171,6 +181,8 @@ private:
     static constexpr int kRestSteps = 10;
     double floor_, rest_height_, rest_speed_, dt_;
     std::optional<double> rest_since_;
+    std::optional<double> filled_from_;
+    std::int64_t fill_period_ = 0;
 };
 
 }  // namespace bouncecheck

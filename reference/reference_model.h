@@ -172,7 +172,6 @@ public:
     // the remaining steps are counted on the clock alone and only their
     // remainder modulo the period is stepped.
     void run_to_end() {
-        RepeatFinder repeats;
         while (clock_.running()) {
             if (!careful_) {
                 free_flight();
@@ -181,16 +180,37 @@ public:
             const ContactMask contact = move();
             clock_.advance();
             ++steps_;
-            if (contact.any() && repeats.seen(q_, v_, steps_)) {
-                skip_periodic(steps_ - repeats.match_step());
+            if (contact.any() && repeats_.seen(q_, v_, steps_)) {
+                skip_periodic(steps_ - repeats_.match_step());
                 return;
             }
         }
     }
 
+    // step(), also watching for the state to repeat (as run_to_end does):
+    // once repeat_period() is nonzero, the states from here on repeat the
+    // last repeat_period() states, bit for bit, to the end of the run.
+    ContactMask step_finding_period() {
+        const ContactMask contact = step();
+        if (contact.any() && repeat_period_ == 0 && repeats_.seen(q_, v_, steps_)) {
+            repeat_found_at_ = steps_;
+            repeat_period_ = steps_ - repeats_.match_step();
+        }
+        return contact;
+    }
+
+    // The steps left before the clock ends the run. O(steps): the clock's
+    // rounding has no closed form.
+    std::int64_t remaining_steps() const {
+        std::int64_t n = 0;
+        for (DocumentClock clock = clock_; clock.running(); clock.advance()) ++n;
+        return n;
+    }
+    double dt() const { return dt_; }
+
     std::int64_t steps() const { return steps_; }
-    // The step at which run_to_end() found the state repeating, and the
-    // period (0 if it never did): for the tests and the benchmark.
+    // The step at which run_to_end() or step_finding_period() found the
+    // state repeating, and the period in steps (0 if it never did).
     std::int64_t repeat_found_at() const { return repeat_found_at_; }
     std::int64_t repeat_period() const { return repeat_period_; }
 
@@ -378,6 +398,7 @@ private:
     std::array<double, D> upper_limit_{};  // upper_in_bounds(q, i) is q < upper_limit_[i]
     std::int64_t steps_ = 0;  // steps taken, by step() or run_to_end()
     std::int64_t repeat_found_at_ = 0, repeat_period_ = 0;
+    RepeatFinder repeats_;
 };
 
 }  // namespace bouncecheck
