@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <variant>
 
 namespace bouncecheck {
@@ -41,26 +42,67 @@ struct TrajectoryComparer::Stats {
     std::int64_t samples_before = 0;
 };
 
-// The reference stepped in lockstep with the compared stream: its sample n is
-// at the same document-clock time as the stream's sample n.
+// The reference in lockstep with the compared stream: its sample n is at the
+// same document-clock time as the stream's sample n. It is stepped until its
+// state repeats bit for bit (its rest), then one more period to hold the
+// cycle's positions, which it replays from there on instead of stepping.
 struct TrajectoryComparer::LockstepReference {
-    explicit LockstepReference(const Scenario& s) {
-        if (s.dim == 2) model.emplace<ReferenceModel<2>>(s);
-        else model.emplace<ReferenceModel<3>>(s);
+    template <int D>
+    struct Replaying {
+        explicit Replaying(const Scenario& s) : model(s) {}
+        Vec3 next_position() {
+            if (replaying) {
+                const Vec3& p = cycle[phase];
+                if (++phase == cycle.size()) phase = 0;
+                return p;
+            }
+            if (model.running()) model.step_finding_period();
+            const Vec3 p = model.state().p;
+            if (collecting) {
+                cycle.push_back(p);
+                replaying = static_cast<std::int64_t>(cycle.size()) == model.repeat_period();
+            } else {
+                // From the state after the one that repeated: the cycle.
+                collecting = model.repeat_period() > 0 && model.repeat_period() <= kMaxReplayedPeriod;
+            }
+            return p;
+        }
+        // The position `ahead` samples after the next one, when replaying.
+        const Vec3& replayed(std::size_t ahead) const { return cycle[(phase + ahead) % cycle.size()]; }
+        void skip(std::int64_t samples) {
+            phase = static_cast<std::size_t>((static_cast<std::int64_t>(phase) + samples) %
+                                             static_cast<std::int64_t>(cycle.size()));
+        }
+        ReferenceModel<D> model;
+        std::vector<Vec3> cycle;
+        std::size_t phase = 0;
+        bool collecting = false, replaying = false;
+    };
+
+    using Model = std::variant<Replaying<2>, Replaying<3>>;
+    static Model make(const Scenario& s) {
+        if (s.dim == 2) return Replaying<2>(s);
+        return Replaying<3>(s);
     }
-    State next(bool first) {
-        return std::visit(
-            [&](auto& m) -> State {
-                if constexpr (std::is_same_v<std::decay_t<decltype(m)>, std::monostate>) {
-                    return State{};
-                } else {
-                    if (!first && m.running()) m.step();
-                    return m.state();
-                }
-            },
-            model);
+    explicit LockstepReference(const Scenario& s) : model(make(s)) {}
+    Vec3 next_position() {
+        if (!started) {
+            started = true;
+            return std::visit([](auto& m) { return m.model.state().p; }, model);
+        }
+        return std::visit([](auto& m) { return m.next_position(); }, model);
     }
-    std::variant<std::monostate, ReferenceModel<2>, ReferenceModel<3>> model;
+    // Replaying its cycle from the next sample on: the cycle's length, else 0.
+    std::int64_t replay_period() const {
+        return std::visit([](auto& m) { return m.replaying ? static_cast<std::int64_t>(m.cycle.size()) : 0; }, model);
+    }
+    const Vec3& replayed(std::size_t ahead) const {
+        return std::visit([&](auto& m) -> const Vec3& { return m.replayed(ahead); }, model);
+    }
+    void skip(std::int64_t samples) {
+        std::visit([&](auto& m) { m.skip(samples); }, model);
+    }
+    Model model;
     bool started = false;
 };
 
@@ -74,15 +116,55 @@ TrajectoryComparer::TrajectoryComparer(const Scenario& s, const ExactModel& exac
 TrajectoryComparer::~TrajectoryComparer() = default;
 
 void TrajectoryComparer::write(const State& s) {
-    const State ref = reference_->next(!reference_->started);
-    reference_->started = true;
-    const double to_reference = (s.p - ref.p).norm();
+    const double to_reference = (s.p - reference_->next_position()).norm();
     const double to_exact = (s.p - exact_.state_at(s.t).p).norm();
     vs_reference_->add(s.t, to_reference);
     vs_exact_->add(s.t, to_exact);
     if (reference_series_) {
         reference_series_->add(s.t, to_reference);
         exact_series_->add(s.t, to_exact);
+    }
+}
+
+void TrajectoryComparer::write_periodic(const PeriodicTail& tail) {
+    const std::int64_t period = tail.period();
+    double t = tail.t_before;
+    std::size_t phase = 0;
+    std::int64_t done = 0;
+    // The common period of the tail and the reference's cycle, if both
+    // baselines repeat from the next sample on and it is not too long.
+    auto common_period = [&]() -> std::int64_t {
+        const std::int64_t reference_period = reference_->replay_period();
+        if (reference_period == 0 || !exact_.still_after(t + tail.dt)) return 0;
+        const std::int64_t common = std::lcm(period, reference_period);
+        return common <= kMaxReplayedPeriod ? common : 0;
+    };
+    std::int64_t common = 0;
+    for (; done < tail.count && (common = common_period()) == 0; ++done) {
+        t = t + tail.dt;
+        State s = tail.cycle[phase];
+        s.t = t;
+        write(s);
+        if (++phase == tail.cycle.size()) phase = 0;
+    }
+    if (done == tail.count) return;
+    const Vec3 exact_p = exact_.state_at(t + tail.dt).p;  // still: the same at every later sample
+    std::vector<double> to_reference(common), to_exact(common);
+    for (std::int64_t j = 0; j < common; ++j) {
+        const Vec3& p = tail.cycle[(phase + j) % period].p;
+        to_reference[j] = (p - reference_->replayed(j)).norm();
+        to_exact[j] = (p - exact_p).norm();
+    }
+    reference_->skip(tail.count - done);
+    for (std::int64_t j = 0; done < tail.count; ++done) {
+        t = t + tail.dt;
+        vs_reference_->add(t, to_reference[j]);
+        vs_exact_->add(t, to_exact[j]);
+        if (reference_series_) {
+            reference_series_->add(t, to_reference[j]);
+            exact_series_->add(t, to_exact[j]);
+        }
+        if (++j == common) j = 0;
     }
 }
 

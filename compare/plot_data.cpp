@@ -1,5 +1,7 @@
 #include "compare/plot_data.h"
 
+#include "reference/document_clock.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -93,29 +95,32 @@ PlotTrace exact_plot_trace(const ExactModel& exact, const Scenario& s, std::size
     }
     std::sort(events.begin(), events.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
 
+    // The document clock's every sample time, but only the kept samples
+    // evaluated: the run's length costs one addition per sample.
     const std::int64_t stride = plot_stride(expected_states(s), budget);
     PlotTrace trace;
+    auto keep = [&](double t) {
+        trace.t.push_back(t);
+        trace.p.push_back(exact.state_at(t).p);
+    };
     std::size_t next_event = 0;
-    std::int64_t index = 0;
-    State last;
-    bool last_kept = false;
-    exact.sample_document_clock([&](const State& st) {
-        while (next_event < events.size() && events[next_event].first < st.t) {
+    std::int64_t until_kept = 0;
+    for (DocumentClock clock(s.dt, s.duration);; clock.advance()) {
+        const double t = clock.t();
+        while (next_event < events.size() && events[next_event].first < t) {
             trace.t.push_back(events[next_event].first);
             trace.p.push_back(events[next_event].second);
             ++next_event;
         }
-        last_kept = index % stride == 0;
-        if (last_kept) {
-            trace.t.push_back(st.t);
-            trace.p.push_back(st.p);
+        const bool kept = until_kept-- == 0;
+        if (kept) {
+            keep(t);
+            until_kept = stride - 1;
         }
-        last = st;
-        ++index;
-    });
-    if (!last_kept && index > 0) {
-        trace.t.push_back(last.t);
-        trace.p.push_back(last.p);
+        if (!clock.running()) {
+            if (!kept) keep(t);  // the last sample always
+            break;
+        }
     }
     return trace;
 }

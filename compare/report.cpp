@@ -159,6 +159,9 @@ nlohmann::json result_json(const SimulatorSummary& r, const Comparison* c, int d
     j["max_penetration"] = num(r.max_penetration);
     j["energy_max_rise"] = num(r.energy_max_rise);
     j["rest_time"] = opt_num(r.rest_time);
+    j["filled_from"] = opt_num(r.filled_from);
+    j["fill_period_steps"] = r.fill_period;
+    j["fill_steps"] = r.fill_steps;
     j["final_state"] = {{"t", num(r.final_state.t)},
                         {"position", vec_json(r.final_state.p, dim)},
                         {"velocity", vec_json(r.final_state.v, dim)}};
@@ -424,6 +427,9 @@ std::string format_summary(const RunReport& report) {
             fmt::format_to(out, "  {:<10} {:>9} {:>9}  {:<31} {:>8} {:>10}\n", r.simulator, r.steps, contacts,
                            apexes, rest, run_time);
             if (r.status == RunStatus::failed) fmt::format_to(out, "  {:<10} FAILED: {}\n", "", r.reason);
+            if (r.filled_from)
+                fmt::format_to(out, "  {:<10} states repeat from t = {:.6g} s (every {} step{}): the last {} filled, not computed\n",
+                               "", *r.filled_from, r.fill_period, r.fill_period == 1 ? "" : "s", r.fill_steps);
         }
     }
     return text;

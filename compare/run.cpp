@@ -70,6 +70,7 @@ std::string encode(const Outcome& o) {
         {"counts", {r.steps, r.contacts, r.floor_contacts, r.apex_count}}, {"unbounded", r.contacts_unbounded},
         {"apexes", apexes}, {"contacts", contacts}, {"penetration", r.max_penetration},
         {"energy", r.energy_max_rise}, {"rest", opt(r.rest_time)}, {"final_t", r.final_state.t},
+        {"filled", {opt(r.filled_from), r.fill_period, r.fill_steps}},
         {"final", encode(std::vector<Vec3>{r.final_state.p, r.final_state.v})}, {"settings", settings},
         {"seconds", r.run_seconds}, {"trajectory", r.trajectory_file},
         {"vs_reference", encode(o.vs_reference)}, {"vs_exact", encode(o.vs_exact)}, {"plot", nullptr},
@@ -101,6 +102,9 @@ Outcome decode(const std::string& bytes) {
     r.max_penetration = j["penetration"].get<double>();
     r.energy_max_rise = j["energy"].get<double>();
     r.rest_time = opt(j["rest"]);
+    r.filled_from = opt(j["filled"][0]);
+    r.fill_period = j["filled"][1].get<std::int64_t>();
+    r.fill_steps = j["filled"][2].get<std::int64_t>();
     const std::vector<Vec3> final_state = decode_points(j["final"]);
     r.final_state = State{j["final_t"].get<double>(), final_state.at(0), final_state.at(1)};
     for (const json& st : j["settings"])

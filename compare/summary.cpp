@@ -118,6 +118,7 @@ void StreamRecorder::on_periodic_tail(const PeriodicTail& tail) {
     if (sink_) sink_->write_periodic(tail);
     filled_from_ = tail.t_before + tail.dt;
     fill_period_ = tail.period();
+    fill_steps_ = tail.count;
     // Replays tail states one by one (the sink has had them already).
     StateSink* const sink = sink_;
     sink_ = nullptr;
@@ -177,6 +178,7 @@ void StreamRecorder::finish(SimulatorSummary& out) {
     out.final_state = last_;
     out.filled_from = filled_from_;
     out.fill_period = fill_period_;
+    out.fill_steps = fill_steps_;
     // A rest must last: ten steps at least, so that the last samples of a
     // bouncing run do not count.
     if (rest_since_ && last_.t - *rest_since_ >= kRestSteps * dt_) out.rest_time = rest_since_;

@@ -45,9 +45,10 @@ struct SimulatorSummary {
     };
     std::vector<Setting> settings;
     // From this time on the run's states were periodic and handed over, not
-    // stepped (PeriodicTail): the period in steps (1: a state at rest).
+    // stepped (PeriodicTail): the period in steps (1: a state at rest) and
+    // how many of the run's steps that was.
     std::optional<double> filled_from;
-    std::int64_t fill_period = 0;
+    std::int64_t fill_period = 0, fill_steps = 0;
     double run_seconds = 0;  // wall time of the run, recording included; NaN: not reported (--no-timings)
     std::string trajectory_file;  // relative to the output folder, if written
 };
@@ -182,7 +183,7 @@ private:
     double floor_, rest_height_, rest_speed_, dt_;
     std::optional<double> rest_since_;
     std::optional<double> filled_from_;
-    std::int64_t fill_period_ = 0;
+    std::int64_t fill_period_ = 0, fill_steps_ = 0;
 };
 
 }  // namespace bouncecheck

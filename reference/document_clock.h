@@ -29,4 +29,12 @@ private:
     double t_ = 0.0;
 };
 
+// The states a run still takes after the one at `clock` (the document's loop
+// adds dt while |t| < |duration|). O(steps): it replays the additions.
+inline std::int64_t remaining_steps(DocumentClock clock) {
+    std::int64_t n = 0;
+    for (; clock.running(); clock.advance()) ++n;
+    return n;
+}
+
 }  // namespace bouncecheck

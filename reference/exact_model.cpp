@@ -270,6 +270,9 @@ void ExactModel::lock_resting_axes(Motion& m) {
 }
 
 State ExactModel::state_at(double t) const {
+    // Every sample after the last event (the ball at rest, typically) is in
+    // the last segment: no search.
+    if (t >= segments_.back().t0) return evaluate(segments_.size() - 1, t);
     const auto after = std::upper_bound(segments_.begin(), segments_.end(), t,
                                         [](double time, const Segment& s) { return time < s.t0; });
     const auto index = after == segments_.begin() ? 0 : static_cast<std::size_t>(after - segments_.begin()) - 1;
@@ -283,6 +286,20 @@ State ExactModel::evaluate(std::size_t segment, double t) const {
     State out{t, position_after(s.p0, s.v0, s.accel, tau), s.v0 + tau * s.accel};
     clamp_into_room(out.p);
     return out;
+}
+
+bool ExactModel::still_from(std::size_t segment, double t) const {
+    const Segment& s = segments_[segment];
+    if (s.zeno_tail) {
+        // tail_state's own test for the rest after the tail: once it holds at
+        // t it holds at every later t (tau grows, the estimate falls).
+        const ZenoTail& z = *tail_;
+        const double tau = t - z.t0;
+        const bool after_tail = !(tau < z.length && 1 - tau * (1 - alpha_) / z.flight0 > 0);
+        return after_tail && z.rest_v == Vec3::Zero();
+    }
+    // A parabola with no velocity and no acceleration: p0 plus exact zeros.
+    return s.v0 == Vec3::Zero() && s.accel == Vec3::Zero();
 }
 
 // Hop k of the tail starts at flight0 (1 - alpha^k) / (1 - alpha): invert that

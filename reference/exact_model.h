@@ -114,6 +114,28 @@ public:
         }
     }
 
+    // Whether the state is the same at t and at every later time.
+    bool still_after(double t) const {
+        return t >= segments_.back().t0 && still_from(segments_.size() - 1, t);
+    }
+
+    // As sample_document_clock, but stops after the first sample from which
+    // the state stays the same to the end of the run (the ball at rest, not
+    // moving along the wall either): returns the clock at that sample, so
+    // the caller can hand the rest over (PeriodicTail); nothing if it sampled
+    // to the end.
+    template <class Sink>
+    std::optional<DocumentClock> sample_document_clock_until_still(Sink&& sink) const {
+        std::size_t segment = 0;
+        for (DocumentClock clock(dt_, duration_);; clock.advance()) {
+            const double t = clock.t();
+            while (segment + 1 < segments_.size() && segments_[segment + 1].t0 <= t) ++segment;
+            sink(evaluate(segment, t));
+            if (!clock.running()) return std::nullopt;
+            if (segment + 1 == segments_.size() && still_from(segment, t)) return clock;
+        }
+    }
+
 private:
     // Uniform motion law from t0 until the next segment: the parabola with
     // acceleration `accel`, which is gravity on free axes and 0 on locked ones
@@ -160,6 +182,9 @@ private:
     void move(Motion& m, int axis, double delta) const;
     Vec3 position(const Motion& m) const;
     State evaluate(std::size_t segment, double t) const;
+    // Whether evaluate(segment, t') gives the same position and velocity for
+    // every t' >= t.
+    bool still_from(std::size_t segment, double t) const;
     State tail_state(double t) const;
     void clamp_into_room(Vec3& p) const;
 

@@ -124,6 +124,11 @@ inline double least_reaching(double size, double reach) {
 
 }  // namespace detail
 
+// The longest cycle of repeating states a consumer holds in memory to
+// replay instead of stepping (reference/simulators.cpp, the comparison's
+// lockstep reference); a longer one is stepped to the end.
+inline constexpr std::int64_t kMaxReplayedPeriod = 1 << 16;
+
 // The document's model in D dimensions (2 or 3). Holds the model's own
 // coordinates: the centre in 3D, the lower-left corner in 2D.
 template <int D>
@@ -201,11 +206,7 @@ public:
 
     // The steps left before the clock ends the run. O(steps): the clock's
     // rounding has no closed form.
-    std::int64_t remaining_steps() const {
-        std::int64_t n = 0;
-        for (DocumentClock clock = clock_; clock.running(); clock.advance()) ++n;
-        return n;
-    }
+    std::int64_t remaining_steps() const { return bouncecheck::remaining_steps(clock_); }
     double dt() const { return dt_; }
 
     std::int64_t steps() const { return steps_; }

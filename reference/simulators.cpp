@@ -8,10 +8,6 @@ namespace bouncecheck {
 
 namespace {
 
-// The longest cycle handed over as a periodic tail (states kept in memory);
-// a longer one is stepped to the end.
-constexpr std::int64_t kMaxTailPeriod = 1 << 16;
-
 // The reference's recorded run: stepped until its state repeats bit for bit
 // (the micro-bounce at rest), then one more period stepped to have the cycle,
 // and the rest of the run handed over as a periodic tail, not stepped. Every
@@ -23,7 +19,7 @@ void record_reference(ReferenceModel<D>& model, StreamRecorder& recorder) {
         const ContactMask contact = model.step_finding_period();
         recorder.on_state(model.state(), contact);
         const std::int64_t period = model.repeat_period();
-        if (period == 0 || period > kMaxTailPeriod) continue;
+        if (period == 0 || period > kMaxReplayedPeriod) continue;
         PeriodicTail tail;
         while (model.running() && tail.period() < period) {
             const ContactMask c = model.step();
@@ -96,7 +92,22 @@ public:
         std::optional<ExactModel> model;
         out.run_seconds = timed_seconds([&] {
             model.emplace(s);
-            model->sample_document_clock([&](const State& st) { recorder.on_state(st, ContactMask{}); });
+            // Sampled until the ball is still, then the rest handed over as
+            // a tail of one repeated state.
+            State last;
+            const std::optional<DocumentClock> still = model->sample_document_clock_until_still([&](const State& st) {
+                recorder.on_state(st, ContactMask{});
+                last = st;
+            });
+            if (still) {
+                PeriodicTail tail;
+                tail.cycle = {last};
+                tail.contacts = {ContactMask{}};
+                tail.count = remaining_steps(*still);
+                tail.t_before = still->t();
+                tail.dt = s.dt;
+                recorder.on_periodic_tail(tail);
+            }
         });
         recorder.finish(out);
         // Contacts and apexes come from the solution itself, not from samples.

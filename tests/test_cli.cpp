@@ -76,6 +76,16 @@ TEST(Cli, RunBundledWritesGoldenTrajectoriesAndReport) {
             const auto& first = sc["simulators"][1]["first_floor_contacts"][0];
             EXPECT_NEAR(first["t"].get<double>(), 5.6556, 1e-4);
             EXPECT_NEAR(first["restitution"].get<double>(), 0.8, 1e-12);
+            // exact is still from just after its Zeno time (34.03 s): the
+            // remaining samples are filled, and the report says from when.
+            const auto& exact = sc["simulators"][1];
+            ASSERT_TRUE(exact["filled_from"].is_number()) << exact.dump();
+            EXPECT_NEAR(exact["filled_from"].get<double>(), 34.08, 1e-9);
+            EXPECT_EQ(exact["fill_period_steps"], 1);
+            EXPECT_EQ(exact["fill_steps"], 1400 - 1136 + 1);  // samples 1136 (t = 34.08) to 1400
+            // The reference repeats only after about 1.1e6 steps.
+            EXPECT_TRUE(sc["simulators"][0]["filled_from"].is_null());
+            EXPECT_EQ(sc["simulators"][0]["fill_steps"], 0);
         }
     }
     // No temporary file is left beside the outputs.

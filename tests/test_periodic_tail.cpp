@@ -3,6 +3,7 @@
 // a periodic tail instead of being stepped. Everything recorded must be what
 // stepping on gives, bit for bit.
 #include "adapters/simulator.h"
+#include "compare/comparison.h"
 #include "compare/summary.h"
 #include "reference/exact_model.h"
 #include "reference/reference_model.h"
@@ -11,10 +12,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace bouncecheck {
 namespace {
@@ -170,6 +174,125 @@ TEST(PeriodicTail, OtherDampingsMatchStepping) {
         s.alpha = alpha;
         s.duration = 2000;
         expect_reference_tail_is_stepping(s);
+    }
+}
+
+// exact at rest: one state repeated, handed over from the first sample
+// where the ball is still; before, every sample was evaluated.
+TEST(PeriodicTail, ExactAtRestIsHandedOverAndMatchesSamplingBitForBit) {
+    for (const char* file : {"seed-3d.toml", "seed-2d.toml"}) {
+        Scenario s = seed(file);
+        s.duration = 3000;
+        SCOPED_TRACE(file);
+        DigestSink filled_states, sampled_states;
+        const SimulatorSummary filled = make_exact_simulator()->run(s, &filled_states);
+        const ExactModel model(s);
+        StreamRecorder recorder(s, &sampled_states);
+        model.sample_document_clock([&](const State& st) { recorder.on_state(st, ContactMask{}); });
+        SimulatorSummary sampled;
+        recorder.finish(sampled);
+        EXPECT_EQ(filled.steps, sampled.steps);
+        EXPECT_EQ(bits(filled.max_penetration), bits(sampled.max_penetration));
+        EXPECT_EQ(bits(filled.energy_max_rise), bits(sampled.energy_max_rise));
+        expect_same_state(filled.final_state, sampled.final_state);
+        EXPECT_EQ(filled_states.states, sampled_states.states);
+        EXPECT_EQ(filled_states.digest, sampled_states.digest);
+        // Still from just after the Zeno time, long before the end.
+        ASSERT_TRUE(filled.filled_from.has_value());
+        ASSERT_TRUE(model.rest_time().has_value());
+        EXPECT_GE(*filled.filled_from, *model.rest_time());
+        EXPECT_LT(*filled.filled_from, *model.rest_time() + 1.0);
+        EXPECT_EQ(filled.fill_period, 1);
+    }
+}
+
+TEST(PeriodicTail, ExactSlidingAlongTheFloorIsNotHandedOver) {
+    // beta = 1: after the Zeno time the ball keeps its tangential velocity
+    // and slides into the side walls, so it is never still.
+    Scenario s = seed("seed-2d.toml");
+    s.beta = 1.0;
+    s.duration = 200;
+    const SimulatorSummary r = make_exact_simulator()->run(s, nullptr);
+    EXPECT_FALSE(r.filled_from.has_value());
+}
+
+// The comparison's own lockstep reference replays its rest cycle instead of
+// stepping: the distances must be those to the stepped reference.
+TEST(PeriodicTail, ComparisonReplaysTheReferenceAtRestBitForBit) {
+    Scenario s = dropped("seed-3d.toml");
+    s.duration = 400;
+    ASSERT_GT(first_repeat<3>(s).second, 0);  // the reference repeats within the run
+    const ExactModel exact(s);
+    TrajectoryComparer comparer(s, exact, std::nullopt, std::nullopt);
+    ReferenceModel<3> reference(s);
+    double sum_sq = 0, max = 0;
+    std::int64_t n = 0;
+    exact.sample_document_clock([&](const State& st) {
+        comparer.write(st);
+        if (n > 0) reference.step();
+        const double d = (st.p - reference.state().p).norm();
+        sum_sq += d * d;
+        max = std::max(max, d);
+        ++n;
+    });
+    const TrajectoryDivergence d = comparer.vs_reference();
+    EXPECT_EQ(d.samples, n);
+    EXPECT_EQ(bits(d.rms), bits(std::sqrt(sum_sq / static_cast<double>(n))));
+    EXPECT_EQ(bits(d.max), bits(max));
+}
+
+void expect_same_divergence(const TrajectoryDivergence& a, const TrajectoryDivergence& b) {
+    EXPECT_EQ(a.samples, b.samples);
+    EXPECT_EQ(bits(a.rms), bits(b.rms));
+    EXPECT_EQ(bits(a.max), bits(b.max));
+    EXPECT_EQ(bits(a.rms_before_rest), bits(b.rms_before_rest));
+    EXPECT_EQ(bits(a.max_before_rest), bits(b.max_before_rest));
+    ASSERT_EQ(a.first_exceeds.has_value(), b.first_exceeds.has_value());
+    if (a.first_exceeds) {
+        EXPECT_EQ(bits(*a.first_exceeds), bits(*b.first_exceeds));
+    }
+}
+
+void expect_same_series(const WindowMaxSeries& a, const WindowMaxSeries& b) {
+    const std::vector<double> at = a.times(), bt = b.times(), av = a.values(), bv = b.values();
+    ASSERT_EQ(at.size(), bt.size());
+    for (std::size_t i = 0; i < at.size(); ++i) {
+        EXPECT_EQ(bits(at[i]), bits(bt[i])) << i;
+        EXPECT_EQ(bits(av[i]), bits(bv[i])) << i;
+    }
+}
+
+// The reference's own stream compared with both baselines, as `run` does:
+// handed over as a tail, against written state by state.
+TEST(PeriodicTail, ComparisonOfATailMatchesStateByStateBitForBit) {
+    struct Case {
+        Scenario s;
+        std::int64_t stride;
+    };
+    std::vector<Case> cases;
+    for (const char* file : {"seed-3d.toml", "seed-2d.toml"}) {
+        Scenario dropped_ball = dropped(file);
+        dropped_ball.duration = 400;
+        cases.push_back({dropped_ball, 7});
+        Scenario long_run = seed(file);
+        long_run.duration = 45000;
+        cases.push_back({long_run, 2503});
+    }
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.s.name + ", duration " + std::to_string(c.s.duration));
+        const ExactModel exact(c.s);
+        // A rest cut inside the tail, so both sides of it are exercised.
+        const std::optional<double> cut = c.s.duration * 0.9;
+        TrajectoryComparer tail(c.s, exact, cut, exact.rest_time()), each(c.s, exact, cut, exact.rest_time());
+        tail.record_series(c.stride);
+        each.record_series(c.stride);
+        const SimulatorSummary filled = make_reference_simulator()->run(c.s, &tail);
+        ASSERT_TRUE(filled.filled_from.has_value());
+        stepped(c.s, &each);
+        expect_same_divergence(tail.vs_reference(), each.vs_reference());
+        expect_same_divergence(tail.vs_exact(), each.vs_exact());
+        expect_same_series(*tail.reference_series(), *each.reference_series());
+        expect_same_series(*tail.exact_series(), *each.exact_series());
     }
 }
 

@@ -194,7 +194,9 @@
     const damping = !c ? "-" : { text: c.damping.verdict, cls: c.damping.reproduces ? "pass" : "warn" };
     return [
       scenarioName, r.simulator,
-      r.status === "ok" ? "ok" : { text: r.status + (r.reason ? ": " + r.reason : ""), cls: r.status === "failed" ? "fail" : "skip" },
+      r.status !== "ok" ? { text: r.status + (r.reason ? ": " + r.reason : ""), cls: r.status === "failed" ? "fail" : "skip" }
+        : r.filled_from === null || r.filled_from === undefined ? "ok"
+        : "ok; states repeat from t = " + num(r.filled_from, 4) + " s (the last " + r.fill_steps + " filled, not computed)",
       c && c.vs_reference.bounces.length ? percent(c.vs_reference.bounce_height_rel_max) : "-",
       c && c.vs_reference.trajectory.samples ? num(c.vs_reference.trajectory.rms, 3) : "-",
       c && c.vs_exact.trajectory.samples ? num(c.vs_exact.trajectory.rms, 3) : "-",
