@@ -107,7 +107,7 @@ void ExactSolve(benchmark::State& state) {
 BENCHMARK(ReferenceStep)->Arg(1000)->Arg(1400)->Arg(100000)->Arg(10000000)->Arg(100000000)->Unit(benchmark::kMillisecond);
 BENCHMARK(ReferenceStepByStep)->Arg(1000)->Arg(100000)->Arg(10000000)->Unit(benchmark::kMillisecond);
 BENCHMARK(NaiveStep)->Arg(1000)->Arg(1400)->Arg(100000)->Arg(10000000)->Arg(100000000)->Unit(benchmark::kMillisecond);
-BENCHMARK(ReferenceRun)->Arg(1000)->Arg(100000)->Arg(10000000)->Unit(benchmark::kMillisecond);
+BENCHMARK(ReferenceRun)->Arg(1000)->Arg(100000)->Arg(10000000)->Arg(100000000)->Unit(benchmark::kMillisecond);
 BENCHMARK(ExactSolve)->Arg(42)->Arg(1000)->Arg(100000)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
