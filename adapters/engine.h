@@ -48,6 +48,16 @@ struct Wall {
 };
 std::vector<Wall> room_walls(const Scenario& s);
 
+// The law's contact condition for the per-contact hooks, at a wall the ball
+// has just started touching (side -1 lower, +1 upper; normal components
+// along the wall's axis): the ball moves into the wall, or rests against it
+// with no normal velocity while gravity presses it in. A ball starting
+// against a wall that gravity pulls it away from (seed-2d's ceiling at t = 0)
+// is not in contact, as for the reference and exact.
+inline bool moves_into_wall(double normal_velocity, double normal_gravity, int side) {
+    return normal_velocity * side > 0 || (normal_velocity == 0 && normal_gravity * side > 0);
+}
+
 // A built engine world, stepped one engine step of the scenario's dt at a time.
 class EngineWorld {
 public:

@@ -17,13 +17,14 @@ const char* to_string(RunStatus s) {
     return "?";
 }
 
-ContactEvent measure_contact(double t, int axis, int side, const Vec3& v_before, const Vec3& v_after, int dim) {
+ContactEvent measure_contact(double t, int axis, int side, const Vec3& v_before, const Vec3& v_after, int dim,
+                             unsigned normal_axes) {
     ContactEvent e{t, axis, side, 0.0, std::nan(""), std::abs(v_before[axis])};
     const double normal_in = e.normal_speed_in;
     e.normal_coefficient = normal_in > 0 ? std::abs(v_after[axis]) / normal_in : 0.0;
     double tangential_in = 0, tangential_out = 0;
     for (int i = 0; i < dim; ++i) {
-        if (i == axis) continue;
+        if (i == axis || ((normal_axes >> i) & 1u)) continue;
         tangential_in += v_before[i] * v_before[i];
         tangential_out += v_after[i] * v_after[i];
     }
@@ -76,7 +77,8 @@ void StreamRecorder::count_contacts(const State& s, ContactMask contact) {
                 // The velocity that meets the wall: a step of gravity after
                 // the last sample, as in the document's step (and Box2D's).
                 const Vec3 incoming = last_.v + gravity_ * (s.t - last_.t);
-                contact_events_.push_back(measure_contact(s.t, i, side, incoming, s.v, dim_));
+                contact_events_.push_back(
+                    measure_contact(s.t, i, side, incoming, s.v, dim_, contact.lower | contact.upper));
             }
         }
     }

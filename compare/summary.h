@@ -65,7 +65,11 @@ inline constexpr std::size_t kReportedApexes = 5;  // in the terminal summary
 // one the sample after; the reference then measures alpha and beta exactly.
 // An engine that bounces the pre-gravity velocity measures alpha (1 - |g| dt / v).
 // exact: at the instant.
-ContactEvent measure_contact(double t, int axis, int side, const Vec3& v_before, const Vec3& v_after, int dim);
+// `normal_axes`: the axes of every wall touched in the same step (bit per
+// axis; a corner touches two or three): none of them is tangential, since
+// the law reverses each one's component by alpha.
+ContactEvent measure_contact(double t, int axis, int side, const Vec3& v_before, const Vec3& v_after, int dim,
+                             unsigned normal_axes = 0);
 
 // Where the ball's centre touches the walls: per axis r (lower) and size - r
 // (upper); unused axes (z in 2D) are unbounded. Every per-state measure runs

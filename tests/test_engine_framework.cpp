@@ -81,6 +81,17 @@ TEST(StreamContactDetector, TwoAxisCheckOfA2DSceneCountsWhatTheThreeAxisOneDoes)
     EXPECT_EQ(d.detect<2>(cases[0][0], cases[0][1]).lower, 0b11);
 }
 
+// The per-contact hooks' contact condition (the law's, as the reference and
+// exact apply it).
+TEST(MovesIntoWall, MovingInOrPressedByGravityAtRest) {
+    EXPECT_TRUE(moves_into_wall(-0.1, 0.0, -1));     // falling onto the floor
+    EXPECT_TRUE(moves_into_wall(0.1, -0.0981, +1));  // rising into the ceiling against gravity
+    EXPECT_TRUE(moves_into_wall(0.0, -0.0981, -1));  // resting on the floor, pressed down
+    EXPECT_FALSE(moves_into_wall(0.0, -0.0981, +1));  // at rest against the ceiling: gravity pulls away
+    EXPECT_FALSE(moves_into_wall(0.1, -0.0981, -1));  // leaving the floor
+    EXPECT_FALSE(moves_into_wall(0.0, 0.0, -1));      // touching, no motion, no gravity
+}
+
 // The recorder's per-state soundness test is fused with its energy: a
 // non-finite velocity on an axis without gravity must still fail the run,
 // and a finite velocity whose square overflows must not.
@@ -102,6 +113,25 @@ TEST(StreamRecorder, NonFiniteVelocityFailsAndAHugeFiniteOneDoesNot) {
     SimulatorSummary out;
     recorder.finish(out);
     EXPECT_EQ(out.status, RunStatus::ok) << out.reason;
+}
+
+// A corner: two walls touched in one step. Each wall's normal component is
+// reversed by alpha, so neither counts as the other's tangential one; only
+// the third axis measures beta.
+TEST(StreamRecorder, CornerContactMeasuresTangentialOnTheFreeAxisOnly) {
+    Scenario s = seed3d();
+    s.gravity = Vec3::Zero();  // the incoming velocity is the previous sample's
+    StreamRecorder recorder(s, nullptr);
+    recorder.on_state(State{0, {0.06, 0.5, 0.06}, {-0.1, 0.2, -0.3}}, {});
+    ContactMask corner;
+    corner.lower = 0b101;  // x and z lower walls
+    recorder.on_state(State{s.dt, {0.05, 0.506, 0.05}, {0.08, 0.198, 0.24}}, corner);
+    SimulatorSummary out;
+    recorder.finish(out);
+    ASSERT_EQ(out.contact_events.size(), 2u);
+    for (const ContactEvent& e : out.contact_events) EXPECT_DOUBLE_EQ(e.tangential_retention, 0.99) << e.axis;
+    EXPECT_DOUBLE_EQ(out.contact_events[0].normal_coefficient, 0.8);
+    EXPECT_DOUBLE_EQ(out.contact_events[1].normal_coefficient, 0.8);
 }
 
 TEST(StreamRecorder, ACentreBeyondAWallFailsEvenByOneUlp) {

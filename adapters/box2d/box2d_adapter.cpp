@@ -59,16 +59,15 @@ public:
         const int axis = wall_axis(contact);
         if (axis < 0) return;
         b2Vec2 v = ball_->GetLinearVelocity();
-        // Only if the ball moves into the wall (the law's contact condition): a
-        // ball that starts touching a wall at rest against it (seed-2d's
-        // ceiling at t = 0) is not a contact.
+        // Only if the law counts it (moves_into_wall).
         b2WorldManifold wm;
         contact->GetWorldManifold(&wm);
         // wm.normal points from fixture A to fixture B; make it wall -> ball.
         const bool ball_is_a = contact->GetFixtureA()->GetUserData().pointer == kBall;
         const float n = ball_is_a ? -wm.normal(axis) : wm.normal(axis);
         const float vn = axis == 0 ? v.x : v.y;
-        if (vn * n >= 0.0f) return;
+        const b2Vec2 g = ball_->GetWorld()->GetGravity();
+        if (!moves_into_wall(vn, axis == 0 ? g.x : g.y, n > 0 ? -1 : +1)) return;
         if (axis == 0)
             v.y *= beta_;
         else

@@ -121,6 +121,7 @@ private:
 
     struct EngineWall {
         int engine_axis;
+        int side;  // -1 lower wall, +1 upper
         std::unique_ptr<btStaticPlaneShape> shape;
         std::unique_ptr<btRigidBody> body;
     };
@@ -244,6 +245,7 @@ BulletWorld::BulletWorld(const Scenario& s, const EngineOptions& options, const 
     for (const Wall& w : room_walls(s)) {
         EngineWall ew;
         ew.engine_axis = engine_axis(dim_, w.axis);
+        ew.side = w.side;
         btVector3 normal(0, 0, 0);
         normal[ew.engine_axis] = -w.side;  // facing into the room
         // Plane: normal . x = constant. Lower wall: x = 0; upper: -x = -size.
@@ -373,7 +375,7 @@ BulletWorld::BulletWorld(const Scenario& s, const EngineOptions& options, const 
 
     set("tangential_model",
         per_contact_ ? fmt::format("per_contact: a pre-solve hook scales the ball's tangential velocity by beta = {} "
-                                   "when a ball-wall manifold gains its first point",
+                                   "when a ball-wall manifold gains its first point while the ball moves into that wall",
                                    num(beta_))
                      : fmt::format("friction: Coulomb mu = {} (one friction direction, along the slip)",
                                    num(options.friction)),
@@ -405,8 +407,11 @@ void BulletWorld::before_solve() {
         any = any || now[w];
         if (!now[w] || touching_[w]) continue;
         ++stats_.new_wall_contacts;
-        if (per_contact_) {
-            btVector3 v = ball_->getLinearVelocity();
+        btVector3 v = ball_->getLinearVelocity();
+        // Bullet reports a ball resting against a wall at distance 0 (seed-2d's
+        // ceiling at t = 0) as touching: the law's condition decides.
+        const int axis = walls_[w].engine_axis;
+        if (per_contact_ && moves_into_wall(v[axis], ball_->getGravity()[axis], walls_[w].side)) {
             for (int a = 0; a < 3; ++a)
                 if (a != walls_[w].engine_axis) v[a] *= beta_;
             ball_->setLinearVelocity(v);

@@ -194,13 +194,18 @@ private:
         touching_now_ |= bit;
 
         if (options_.tangential_model == TangentialModel::per_contact && !(touching_before_ & bit)) {
-            // A contact starts: scale every velocity component but the wall's normal by beta, once.
+            // A contact starts: scale every velocity component but the wall's
+            // normal by beta, once, if the law counts it (moves_into_wall).
             ++stats_.new_contacts;
             const dReal* v = dBodyGetLinearVel(body_);
-            double nv[3] = {v[0], v[1], v[2]};
-            for (int i = 0; i < dim_; ++i)
-                if (i != w.axis) nv[i] *= beta_;
-            dBodySetLinearVel(body_, nv[0], nv[1], nv[2]);
+            dVector3 gravity;
+            dWorldGetGravity(world_, gravity);
+            if (moves_into_wall(v[w.axis], gravity[w.axis], w.side)) {
+                double nv[3] = {v[0], v[1], v[2]};
+                for (int i = 0; i < dim_; ++i)
+                    if (i != w.axis) nv[i] *= beta_;
+                dBodySetLinearVel(body_, nv[0], nv[1], nv[2]);
+            }
         }
 
         for (int i = 0; i < count; ++i) {
