@@ -4,6 +4,7 @@
 // report or a hang. The loader's own tests (test_scenario_loader.cpp) check
 // each rule in detail; these check what a user sees.
 #include "tests/support/cli.h"
+#include "tests/support/test_directory.h"
 
 #include <gtest/gtest.h>
 
@@ -29,25 +30,9 @@ const fs::path kScenarios = BOUNCECHECK_SCENARIO_DIR;
 const fs::path kInvalid = fs::path(BOUNCECHECK_TEST_DATA) / "invalid";
 
 // Each test writes its files in its own directory, removed afterwards.
-class HostileInput : public ::testing::Test {
+class HostileInput : public bouncecheck::test::TestDirectory {
 protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() /
-               (std::string("bouncecheck-hostile-") + info->name() + "-" + std::to_string(::getpid()));
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir_, ec);
-    }
-
-    fs::path write(const std::string& name, std::string_view text) const {
-        const fs::path file = dir_ / name;
-        std::ofstream(file, std::ios::binary) << text;
-        return file;
-    }
+    fs::path write(const std::string& name, std::string_view text) const { return write_file(name, text); }
 
     // `validate FILE` and `run FILE` both exit 2, print every line of
     // `expected` (each a whole diagnostic or its start) and write no report.
@@ -63,8 +48,6 @@ protected:
             EXPECT_FALSE(fs::exists(out / "report.json"));
         }
     }
-
-    fs::path dir_;
 };
 
 // The bundled 3D seed with one line replaced: a real file with one hostile value.

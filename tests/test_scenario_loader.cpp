@@ -2,6 +2,7 @@
 // validation rule (with its reported location, key and reason), and inputs
 // that must produce ScenarioError and nothing else.
 #include "scenarios/loader.h"
+#include "tests/support/test_directory.h"
 
 #include <gtest/gtest.h>
 
@@ -111,26 +112,18 @@ std::string dump(const std::vector<Diagnostic>& diagnostics) {
 std::uint64_t bits(double x) { return std::bit_cast<std::uint64_t>(x); }
 
 // A file under the test's own temporary directory, removed afterwards.
-class ScenarioLoaderFiles : public ::testing::Test {
+class ScenarioLoaderFiles : public test::TestDirectory {
 protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() /
-               (std::string("bouncecheck-loader-") + info->name() + "-" + std::to_string(::getpid()));
-        fs::create_directories(dir_);
-    }
     void TearDown() override {
         std::error_code ec;
-        fs::permissions(file_, fs::perms::owner_all, ec);
-        fs::remove_all(dir_, ec);
+        fs::permissions(file_, fs::perms::owner_all, ec);  // a test may have made it unreadable
+        TestDirectory::TearDown();
     }
     const fs::path& write(std::string_view text) {
-        file_ = dir_ / "scenario.toml";
-        std::ofstream(file_, std::ios::binary) << text;
+        file_ = write_file("scenario.toml", text);
         return file_;
     }
 
-    fs::path dir_;
     fs::path file_;
 };
 
