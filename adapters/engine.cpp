@@ -73,26 +73,35 @@ std::optional<std::string> EngineSimulator::cannot_run(const Scenario& s) const 
     return std::nullopt;
 }
 
+EngineSimulator::SteppedWorld EngineSimulator::build_stepped_world(
+    const Scenario& s, std::vector<SimulatorSummary::Setting>& settings) const {
+    const EngineOptions options = s.engine_options(std::string(name()));
+    SteppedWorld out;
+    out.substeps = std::max(1, options.substeps);
+    Scenario engine_scenario = s;
+    engine_scenario.dt = s.dt / out.substeps;
+    out.engine_dt = engine_scenario.dt;
+    out.world = build(engine_scenario, options, settings);
+    return out;
+}
+
 SimulatorSummary EngineSimulator::run(const Scenario& s, StateSink* sink) const {
     SimulatorSummary out;
     out.simulator = std::string(name());
-    const EngineOptions options = s.engine_options(out.simulator);
     StreamRecorder recorder(s, sink);
     const StreamContactDetector detector(s);
     // Substeps: the world is built for dt / substeps and stepped that many
     // times per scenario step; only the scenario step's end is recorded.
-    const int substeps = std::max(1, options.substeps);
-    Scenario engine_scenario = s;
-    engine_scenario.dt = s.dt / substeps;
     out.run_seconds = timed_seconds([&] {
-        const std::unique_ptr<EngineWorld> world = build(engine_scenario, options, out.settings);
+        const SteppedWorld built = build_stepped_world(s, out.settings);
+        const int substeps = built.substeps;
         out.settings.push_back(
             {"substeps", fmt::format("{} engine step{} of {} s per scenario step", substeps,
-                                     substeps == 1 ? "" : "s", engine_scenario.dt),
+                                     substeps == 1 ? "" : "s", built.engine_dt),
              substeps == 1 ? "one engine step per scenario step (the document's step)"
                            : "scenario [engines.<name>] substeps: shorter engine steps against fast balls and large dt"});
-        if (s.dim == 2) step_world_to_end<2>(s, *world, substeps, recorder, detector);
-        else step_world_to_end<3>(s, *world, substeps, recorder, detector);
+        if (s.dim == 2) step_world_to_end<2>(s, *built.world, substeps, recorder, detector);
+        else step_world_to_end<3>(s, *built.world, substeps, recorder, detector);
     });
     recorder.finish(out);
     return out;

@@ -111,6 +111,16 @@ public:
 
     virtual EngineCapabilities capabilities() const = 0;
 
+    // The world run() steps for `s`: built for dt / substeps (the scenario's
+    // [engines.<name>] substeps, at least 1), stepped `substeps` times per
+    // scenario step. Public so that a benchmark can step the same world bare.
+    struct SteppedWorld {
+        std::unique_ptr<EngineWorld> world;
+        int substeps = 1;
+        double engine_dt = 0;
+    };
+    SteppedWorld build_stepped_world(const Scenario& s, std::vector<SimulatorSummary::Setting>& settings) const;
+
 protected:
     // Builds the world for `s`, appending every setting that changes the answer to `settings`.
     virtual std::unique_ptr<EngineWorld> build(const Scenario& s, const EngineOptions& options,

@@ -2,7 +2,7 @@
 // through its adapter's Simulator::run (EngineSimulator::run: clock, read
 // back, stream contact detection and the metrics recorder) against a bare
 // loop calling the same world's step() for the same number of steps, the
-// world built by the adapter's own build_world with the same tuning. Both
+// world built as run() builds it (build_stepped_world). Both
 // include building the world. Bullet and ODE run seed-3d, Box2D seed-2d
 // (it is a 2D engine).
 //
@@ -29,7 +29,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -42,28 +41,21 @@ Scenario bundled(const std::string& file) {
     return load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/" + file);
 }
 
-using BuildWorld = std::function<std::unique_ptr<EngineWorld>(const Scenario&, const EngineOptions&,
-                                                              std::vector<SimulatorSummary::Setting>&)>;
-
 // The engine's own steps and nothing else: no clock, no read-back, no
-// recording. The same substeps as the shared loop: a world built for
-// dt / substeps, stepped that many times per scenario step.
-State run_bare(const Scenario& s, const EngineOptions& options, std::int64_t steps, const BuildWorld& build) {
-    const int substeps = std::max(1, options.substeps);
-    Scenario engine_scenario = s;
-    engine_scenario.dt = s.dt / substeps;
+// recording. The world is the one the adapter's run() steps, built the same
+// way (EngineSimulator::build_stepped_world, substeps included).
+State run_bare(const Scenario& s, const EngineSimulator& sim, std::int64_t steps) {
     std::vector<SimulatorSummary::Setting> settings;
-    const std::unique_ptr<EngineWorld> world = build(engine_scenario, options, settings);
-    for (std::int64_t n = 0; n < steps * substeps; ++n) world->step();
+    const EngineSimulator::SteppedWorld built = sim.build_stepped_world(s, settings);
+    for (std::int64_t n = 0; n < steps * built.substeps; ++n) built.world->step();
     State last;
-    world->read(last);
+    built.world->read(last);
     return last;
 }
 
-void bare(benchmark::State& state, const Scenario& s, const std::string& engine, const BuildWorld& build) {
-    const EngineOptions options = s.engine_options(engine);
+void bare(benchmark::State& state, const Scenario& s, const EngineSimulator& sim) {
     const std::int64_t steps = document_step_count(s.dt, s.duration);
-    for (auto _ : state) benchmark::DoNotOptimize(run_bare(s, options, steps, build));
+    for (auto _ : state) benchmark::DoNotOptimize(run_bare(s, sim, steps));
     state.counters["per_step"] = benchmark::Counter(static_cast<double>(steps * state.iterations()),
                                                        benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
@@ -86,8 +78,7 @@ void adapter(benchmark::State& state, const Scenario& s, const Simulator& sim) {
 // the iterations of 100 (adapter / bare - 1). Load that drifts over seconds
 // moves both runs of a pair alike and cancels in the ratio, which separate
 // EngineBare and EngineRun medians cannot do on a shared machine.
-void paired(benchmark::State& state, const Scenario& s, const Simulator& sim, const BuildWorld& build) {
-    const EngineOptions options = s.engine_options(std::string(sim.name()));
+void paired(benchmark::State& state, const Scenario& s, const EngineSimulator& sim) {
     const std::int64_t steps = document_step_count(s.dt, s.duration);
     using Clock = std::chrono::steady_clock;
     auto seconds = [](auto&& f) {
@@ -98,7 +89,7 @@ void paired(benchmark::State& state, const Scenario& s, const Simulator& sim, co
     std::vector<double> ratios;
     for (auto _ : state) {
         double bare_s = 0, adapter_s = 0;
-        auto time_bare = [&] { bare_s = seconds([&] { benchmark::DoNotOptimize(run_bare(s, options, steps, build)); }); };
+        auto time_bare = [&] { bare_s = seconds([&] { benchmark::DoNotOptimize(run_bare(s, sim, steps)); }); };
         auto time_adapter = [&] {
             adapter_s = seconds([&] {
                 const SimulatorSummary summary = sim.run(s, nullptr);
@@ -120,33 +111,22 @@ void paired(benchmark::State& state, const Scenario& s, const Simulator& sim, co
     state.counters["pairs"] = static_cast<double>(ratios.size());
 }
 
-// One row per built engine: its scenario, its adapter, and its world as the
-// adapter builds it with the same tuning.
+// One row per built engine: its scenario and its adapter as `run` uses it.
 struct EngineCase {
     std::string engine, scenario;
     std::unique_ptr<const Simulator> simulator;
-    BuildWorld build;
 };
 
 std::vector<EngineCase> engine_cases() {
     std::vector<EngineCase> cases;
 #ifdef BOUNCECHECK_WITH_BULLET
-    cases.push_back({"bullet", "seed-3d.toml", bullet::make_simulator(bullet::Tuning::chosen()),
-                     [](const Scenario& s, const EngineOptions& o, auto& settings) {
-                         return std::unique_ptr<EngineWorld>(bullet::build_world(s, o, bullet::Tuning::chosen(), settings));
-                     }});
+    cases.push_back({"bullet", "seed-3d.toml", bullet::make_simulator(bullet::Tuning::chosen())});
 #endif
 #ifdef BOUNCECHECK_WITH_ODE
-    cases.push_back({"ode", "seed-3d.toml", ode::make_simulator(ode::Tuning::chosen()),
-                     [](const Scenario& s, const EngineOptions& o, auto& settings) {
-                         return std::unique_ptr<EngineWorld>(ode::build_world(s, o, ode::Tuning::chosen(), settings));
-                     }});
+    cases.push_back({"ode", "seed-3d.toml", ode::make_simulator(ode::Tuning::chosen())});
 #endif
 #ifdef BOUNCECHECK_WITH_BOX2D
-    cases.push_back({"box2d", "seed-2d.toml", box2d::make_simulator(box2d::Tuning{}),
-                     [](const Scenario& s, const EngineOptions& o, auto& settings) {
-                         return box2d::build_world(s, o, box2d::Tuning{}, settings);
-                     }});
+    cases.push_back({"box2d", "seed-2d.toml", box2d::make_simulator(box2d::Tuning{})});
 #endif
     return cases;
 }
@@ -157,14 +137,15 @@ int main(int argc, char** argv) {
     static const std::vector<EngineCase> cases = engine_cases();
     for (const EngineCase& c : cases) {
         const Scenario s = bundled(c.scenario);
+        const auto& sim = dynamic_cast<const EngineSimulator&>(*c.simulator);
         benchmark::RegisterBenchmark(("EngineBare_" + c.engine).c_str(),
-                                     [&c, s](benchmark::State& st) { bare(st, s, c.engine, c.build); })
+                                     [&sim, s](benchmark::State& st) { bare(st, s, sim); })
             ->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark(("EngineRun_" + c.engine).c_str(),
-                                     [&c, s](benchmark::State& st) { adapter(st, s, *c.simulator); })
+                                     [&sim, s](benchmark::State& st) { adapter(st, s, sim); })
             ->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark(("EnginePaired_" + c.engine).c_str(),
-                                     [&c, s](benchmark::State& st) { paired(st, s, *c.simulator, c.build); })
+                                     [&sim, s](benchmark::State& st) { paired(st, s, sim); })
             ->Unit(benchmark::kMillisecond);
     }
     benchmark::Initialize(&argc, argv);
