@@ -35,19 +35,35 @@ struct PeriodicTail {
     std::int64_t count = 0;
     double t_before = 0, dt = 0;
     std::int64_t period() const { return static_cast<std::int64_t>(cycle.size()); }
-    // Calls f(state, contact) for every tail state, in order.
-    template <class F>
-    void for_each(F&& f) const {
-        double t = t_before;
-        std::size_t k = 0;
-        for (std::int64_t n = 0; n < count; ++n) {
-            t = t + dt;
-            State s = cycle[k];
-            s.t = t;
-            f(s, contacts[k]);
-            if (++k == cycle.size()) k = 0;
+
+    // Walks the tail in order: next() makes the next state, pass() goes past
+    // it without making it (its time is still added: the clock's rounding
+    // has no closed form).
+    class Cursor {
+    public:
+        explicit Cursor(const PeriodicTail& tail) : tail_(&tail), t_(tail.t_before) {}
+        std::int64_t left() const { return tail_->count - done_; }
+        std::size_t phase() const { return phase_; }  // the next state's place in the cycle
+        double next_t() const { return t_ + tail_->dt; }
+        State next(ContactMask* contact = nullptr) {
+            State s = tail_->cycle[phase_];
+            if (contact) *contact = tail_->contacts[phase_];
+            s.t = pass();
+            return s;
         }
-    }
+        double pass() {
+            t_ = t_ + tail_->dt;
+            if (++phase_ == tail_->cycle.size()) phase_ = 0;
+            ++done_;
+            return t_;
+        }
+
+    private:
+        const PeriodicTail* tail_;
+        double t_;
+        std::size_t phase_ = 0;
+        std::int64_t done_ = 0;
+    };
 };
 
 // Where a simulator's states go when someone wants them all: a trajectory
@@ -59,7 +75,7 @@ public:
     // The run's remaining states, periodic. By default each one is written;
     // a sink that can take them faster overrides this, with the same result.
     virtual void write_periodic(const PeriodicTail& tail) {
-        tail.for_each([this](const State& s, ContactMask) { write(s); });
+        for (PeriodicTail::Cursor at(tail); at.left() > 0;) write(at.next());
     }
 };
 

@@ -44,39 +44,34 @@ struct TrajectoryComparer::Stats {
 
 // The reference in lockstep with the compared stream: its sample n is at the
 // same document-clock time as the stream's sample n. It is stepped until its
-// state repeats bit for bit (its rest), then one more period to hold the
-// cycle's positions, which it replays from there on instead of stepping.
+// state repeats bit for bit (its rest) and the model holds one more period
+// (step_finding_period), which it replays from there on instead of stepping.
 struct TrajectoryComparer::LockstepReference {
     template <int D>
     struct Replaying {
         explicit Replaying(const Scenario& s) : model(s) {}
         Vec3 next_position() {
             if (replaying) {
-                const Vec3& p = cycle[phase];
-                if (++phase == cycle.size()) phase = 0;
+                const Vec3& p = model.held_cycle()[phase].p;
+                if (++phase == model.held_cycle().size()) phase = 0;
                 return p;
             }
             if (model.running()) model.step_finding_period();
-            const Vec3 p = model.state().p;
-            if (collecting) {
-                cycle.push_back(p);
-                replaying = static_cast<std::int64_t>(cycle.size()) == model.repeat_period();
-            } else {
-                // From the state after the one that repeated: the cycle.
-                collecting = model.repeat_period() > 0 && model.repeat_period() <= kMaxReplayedPeriod;
-            }
-            return p;
+            replaying = model.cycle_held();  // from the next sample on
+            return model.state().p;
         }
         // The position `ahead` samples after the next one, when replaying.
-        const Vec3& replayed(std::size_t ahead) const { return cycle[(phase + ahead) % cycle.size()]; }
+        const Vec3& replayed(std::size_t ahead) const {
+            const std::vector<State>& cycle = model.held_cycle();
+            return cycle[(phase + ahead) % cycle.size()].p;
+        }
         void skip(std::int64_t samples) {
-            phase = static_cast<std::size_t>((static_cast<std::int64_t>(phase) + samples) %
-                                             static_cast<std::int64_t>(cycle.size()));
+            const auto period = static_cast<std::int64_t>(model.held_cycle().size());
+            phase = static_cast<std::size_t>((static_cast<std::int64_t>(phase) + samples) % period);
         }
         ReferenceModel<D> model;
-        std::vector<Vec3> cycle;
         std::size_t phase = 0;
-        bool collecting = false, replaying = false;
+        bool replaying = false;
     };
 
     using Model = std::variant<Replaying<2>, Replaying<3>>;
@@ -94,7 +89,8 @@ struct TrajectoryComparer::LockstepReference {
     }
     // Replaying its cycle from the next sample on: the cycle's length, else 0.
     std::int64_t replay_period() const {
-        return std::visit([](auto& m) { return m.replaying ? static_cast<std::int64_t>(m.cycle.size()) : 0; }, model);
+        return std::visit(
+            [](auto& m) { return m.replaying ? static_cast<std::int64_t>(m.model.held_cycle().size()) : 0; }, model);
     }
     const Vec3& replayed(std::size_t ahead) const {
         return std::visit([&](auto& m) -> const Vec3& { return m.replayed(ahead); }, model);
@@ -128,36 +124,28 @@ void TrajectoryComparer::write(const State& s) {
 
 void TrajectoryComparer::write_periodic(const PeriodicTail& tail) {
     const std::int64_t period = tail.period();
-    double t = tail.t_before;
-    std::size_t phase = 0;
-    std::int64_t done = 0;
+    PeriodicTail::Cursor at(tail);
     // The common period of the tail and the reference's cycle, if both
     // baselines repeat from the next sample on and it is not too long.
     auto common_period = [&]() -> std::int64_t {
         const std::int64_t reference_period = reference_->replay_period();
-        if (reference_period == 0 || !exact_.still_after(t + tail.dt)) return 0;
+        if (reference_period == 0 || !exact_.still_after(at.next_t())) return 0;
         const std::int64_t common = std::lcm(period, reference_period);
         return common <= kMaxReplayedPeriod ? common : 0;
     };
     std::int64_t common = 0;
-    for (; done < tail.count && (common = common_period()) == 0; ++done) {
-        t = t + tail.dt;
-        State s = tail.cycle[phase];
-        s.t = t;
-        write(s);
-        if (++phase == tail.cycle.size()) phase = 0;
-    }
-    if (done == tail.count) return;
-    const Vec3 exact_p = exact_.state_at(t + tail.dt).p;  // still: the same at every later sample
+    while (at.left() > 0 && (common = common_period()) == 0) write(at.next());
+    if (at.left() == 0) return;
+    const Vec3 exact_p = exact_.state_at(at.next_t()).p;  // still: the same at every later sample
     std::vector<double> to_reference(common), to_exact(common);
     for (std::int64_t j = 0; j < common; ++j) {
-        const Vec3& p = tail.cycle[(phase + j) % period].p;
+        const Vec3& p = tail.cycle[(at.phase() + j) % period].p;
         to_reference[j] = (p - reference_->replayed(j)).norm();
         to_exact[j] = (p - exact_p).norm();
     }
-    reference_->skip(tail.count - done);
-    for (std::int64_t j = 0; done < tail.count; ++done) {
-        t = t + tail.dt;
+    reference_->skip(at.left());
+    for (std::int64_t j = 0; at.left() > 0;) {
+        const double t = at.pass();
         vs_reference_->add(t, to_reference[j]);
         vs_exact_->add(t, to_exact[j]);
         if (reference_series_) {

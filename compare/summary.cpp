@@ -125,22 +125,18 @@ void StreamRecorder::on_periodic_tail(const PeriodicTail& tail) {
     StateSink* const sink = sink_;
     sink_ = nullptr;
     const std::int64_t period = tail.period();
-    double t = tail.t_before;
-    std::int64_t done = 0;
-    std::size_t phase = 0;
+    PeriodicTail::Cursor at(tail);
     auto replay = [&](std::int64_t states) {
-        for (std::int64_t i = 0; i < states; ++i, ++done) {
-            t = t + tail.dt;
-            State s = tail.cycle[phase];
-            s.t = t;
-            on_state(s, tail.contacts[phase]);
-            if (++phase == tail.cycle.size()) phase = 0;
+        for (std::int64_t i = 0; i < states; ++i) {
+            ContactMask contact;
+            const State s = at.next(&contact);
+            on_state(s, contact);
         }
     };
     // What one whole cycle adds to the counts. The recorder has seen the
     // cycle before the tail, so from the tail's start it repeats too.
     const std::int64_t contacts_before = contacts_, floor_before = floor_contacts_, apexes_before = apex_count_;
-    replay(std::min(period, tail.count));
+    replay(std::min(period, at.left()));
     const std::int64_t cycle_contacts = contacts_ - contacts_before;
     const std::int64_t cycle_floor = floor_contacts_ - floor_before;
     const std::int64_t cycle_apexes = apex_count_ - apexes_before;
@@ -149,20 +145,19 @@ void StreamRecorder::on_periodic_tail(const PeriodicTail& tail) {
         return (cycle_contacts > 0 && contact_events_.size() < kKeptContacts) ||
                (cycle_apexes > 0 && apexes_.size() < kKeptApexes);
     };
-    while (tail.count - done >= 2 * period && lists_grow()) replay(period);
+    while (at.left() >= 2 * period && lists_grow()) replay(period);
     // Whole cycles counted, not replayed, keeping one whole cycle and the
     // remainder to replay, so that what depends on the times of the last
     // states (rest start, the open apex, the final state) is as stepped.
-    const std::int64_t skipped = (tail.count - done) / period - 1;
+    const std::int64_t skipped = at.left() / period - 1;
     if (skipped > 0) {
-        for (std::int64_t i = 0; i < skipped * period; ++i) t = t + tail.dt;  // the clock's own rounding
-        done += skipped * period;
+        for (std::int64_t i = 0; i < skipped * period; ++i) at.pass();
         states_ += skipped * period;
         contacts_ += skipped * cycle_contacts;
         floor_contacts_ += skipped * cycle_floor;
         apex_count_ += skipped * cycle_apexes;
     }
-    replay(tail.count - done);
+    replay(at.left());
     sink_ = sink;
 }
 

@@ -36,6 +36,7 @@
 #include <cstdint>
 #include <limits>
 #include <numeric>
+#include <vector>
 
 namespace bouncecheck {
 
@@ -192,17 +193,28 @@ public:
         }
     }
 
-    // step(), also watching for the state to repeat (as run_to_end does):
-    // once repeat_period() is nonzero, the states from here on repeat the
-    // last repeat_period() states, bit for bit, to the end of the run.
+    // step(), also watching for the state to repeat (as run_to_end does).
+    // Once it has, the next repeat_period() states (at most
+    // kMaxReplayedPeriod) are held with their contacts: from then on the
+    // run repeats held_cycle(), bit for bit, to its end.
     ContactMask step_finding_period() {
         const ContactMask contact = step();
-        if (contact.any() && repeat_period_ == 0 && repeats_.seen(q_, v_, steps_)) {
-            repeat_found_at_ = steps_;
-            repeat_period_ = steps_ - repeats_.match_step();
+        if (repeat_period_ == 0) {
+            if (contact.any() && repeats_.seen(q_, v_, steps_)) {
+                repeat_found_at_ = steps_;
+                repeat_period_ = steps_ - repeats_.match_step();
+            }
+        } else if (repeat_period_ <= kMaxReplayedPeriod && !cycle_held()) {
+            held_cycle_.push_back(state());
+            held_contacts_.push_back(contact);
         }
         return contact;
     }
+    bool cycle_held() const {
+        return repeat_period_ > 0 && static_cast<std::int64_t>(held_cycle_.size()) == repeat_period_;
+    }
+    const std::vector<State>& held_cycle() const { return held_cycle_; }
+    const std::vector<ContactMask>& held_contacts() const { return held_contacts_; }
 
     // The steps left before the clock ends the run. O(steps): the clock's
     // rounding has no closed form.
@@ -400,6 +412,8 @@ private:
     std::int64_t steps_ = 0;  // steps taken, by step() or run_to_end()
     std::int64_t repeat_found_at_ = 0, repeat_period_ = 0;
     RepeatFinder repeats_;
+    std::vector<State> held_cycle_;  // see step_finding_period
+    std::vector<ContactMask> held_contacts_;
 };
 
 }  // namespace bouncecheck

@@ -9,25 +9,20 @@ namespace bouncecheck {
 namespace {
 
 // The reference's recorded run: stepped until its state repeats bit for bit
-// (the micro-bounce at rest), then one more period stepped to have the cycle,
-// and the rest of the run handed over as a periodic tail, not stepped. Every
-// state, count and measure is what stepping on would give (tested).
+// (the micro-bounce at rest) and one more period is held, then the rest of
+// the run handed over as a periodic tail, not stepped. Every state, count and
+// measure is what stepping on would give (tested).
 template <int D>
 void record_reference(ReferenceModel<D>& model, StreamRecorder& recorder) {
     recorder.on_state(model.state(), ContactMask{});
     while (model.running() && !recorder.failed()) {
         const ContactMask contact = model.step_finding_period();
         recorder.on_state(model.state(), contact);
-        const std::int64_t period = model.repeat_period();
-        if (period == 0 || period > kMaxReplayedPeriod) continue;
+        if (!model.cycle_held()) continue;
+        if (!model.running()) return;
         PeriodicTail tail;
-        while (model.running() && tail.period() < period) {
-            const ContactMask c = model.step();
-            tail.cycle.push_back(model.state());
-            tail.contacts.push_back(c);
-            recorder.on_state(tail.cycle.back(), c);
-        }
-        if (recorder.failed() || !model.running()) return;
+        tail.cycle = model.held_cycle();
+        tail.contacts = model.held_contacts();
         tail.t_before = model.state().t;
         tail.dt = model.dt();
         tail.count = model.remaining_steps();
