@@ -1,6 +1,7 @@
 #include "compare/report.h"
 
 #include "compare/atomic_file.h"
+#include "compare/json_number.h"
 
 #include <fmt/format.h>
 
@@ -16,13 +17,11 @@ namespace {
 // ---------------------------------------------------------------- JSON
 
 // JSON has no NaN or infinity: they are written as null.
-nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
-nlohmann::json opt_num(const std::optional<double>& v) { return v ? num(*v) : nlohmann::json(nullptr); }
 
 nlohmann::json vec_json(const Vec3& v, int dim) {
     nlohmann::json a = nlohmann::json::array();
-    for (int i = 0; i < dim; ++i) a.push_back(num(v[i]));
+    for (int i = 0; i < dim; ++i) a.push_back(json_number(v[i]));
     return a;
 }
 
@@ -30,11 +29,11 @@ nlohmann::json vec_json(const Vec3& v, int dim) {
 nlohmann::json threshold_set_json(const ThresholdSet& t) {
     nlohmann::json j = nlohmann::json::object();
     if (t.bounce_count) j["bounce_count"] = *t.bounce_count;
-    if (t.bounce_height_rel) j["bounce_height_rel"] = num(*t.bounce_height_rel);
-    if (t.trajectory_rms) j["trajectory_rms"] = num(*t.trajectory_rms);
-    if (t.trajectory_max) j["trajectory_max"] = num(*t.trajectory_max);
-    if (t.restitution_abs) j["restitution_abs"] = num(*t.restitution_abs);
-    if (t.tangential_abs) j["tangential_abs"] = num(*t.tangential_abs);
+    if (t.bounce_height_rel) j["bounce_height_rel"] = json_number(*t.bounce_height_rel);
+    if (t.trajectory_rms) j["trajectory_rms"] = json_number(*t.trajectory_rms);
+    if (t.trajectory_max) j["trajectory_max"] = json_number(*t.trajectory_max);
+    if (t.restitution_abs) j["restitution_abs"] = json_number(*t.restitution_abs);
+    if (t.tangential_abs) j["tangential_abs"] = json_number(*t.tangential_abs);
     return j;
 }
 
@@ -46,14 +45,14 @@ nlohmann::json scenario_json(const Scenario& s) {
         {"file", s.source.string()},
         {"dim", s.dim},
         {"room", vec_json(s.room, s.dim)},
-        {"radius", num(s.radius)},
+        {"radius", json_number(s.radius)},
         {"position", vec_json(s.position, s.dim)},
         {"velocity", vec_json(s.velocity, s.dim)},
         {"gravity", vec_json(s.gravity, s.dim)},
-        {"alpha", num(s.alpha)},
-        {"beta", num(s.beta)},
-        {"dt", num(s.dt)},
-        {"duration", num(s.duration)},
+        {"alpha", json_number(s.alpha)},
+        {"beta", json_number(s.beta)},
+        {"dt", json_number(s.dt)},
+        {"duration", json_number(s.duration)},
         {"thresholds", {{"all", threshold_set_json(s.thresholds.all)}, {"simulators", overrides}}},
     };
 }
@@ -61,13 +60,13 @@ nlohmann::json scenario_json(const Scenario& s) {
 nlohmann::json trajectory_json(const TrajectoryDivergence& t) {
     return {
         {"samples", t.samples},
-        {"rms", num(t.rms)},
-        {"max", num(t.max)},
-        {"rest_cut", opt_num(t.rest_cut)},
-        {"rms_before_rest", num(t.rms_before_rest)},
-        {"max_before_rest", num(t.max_before_rest)},
-        {"tolerance", num(t.tolerance)},
-        {"first_exceeds", opt_num(t.first_exceeds)},
+        {"rms", json_number(t.rms)},
+        {"max", json_number(t.max)},
+        {"rest_cut", json_number(t.rest_cut)},
+        {"rms_before_rest", json_number(t.rms_before_rest)},
+        {"max_before_rest", json_number(t.max_before_rest)},
+        {"tolerance", json_number(t.tolerance)},
+        {"first_exceeds", json_number(t.first_exceeds)},
     };
 }
 
@@ -76,18 +75,18 @@ nlohmann::json divergence_json(const Divergence& d) {
     for (const BounceDiff& b : d.bounces) {
         bounces.push_back({
             {"index", b.index},
-            {"height", num(b.height)},
-            {"baseline_height", num(b.baseline_height)},
-            {"abs_diff", num(b.abs_diff)},
-            {"rel_diff", num(b.rel_diff)},
-            {"contact_t", opt_num(b.contact_t)},
-            {"baseline_contact_t", opt_num(b.baseline_contact_t)},
+            {"height", json_number(b.height)},
+            {"baseline_height", json_number(b.baseline_height)},
+            {"abs_diff", json_number(b.abs_diff)},
+            {"rel_diff", json_number(b.rel_diff)},
+            {"contact_t", json_number(b.contact_t)},
+            {"baseline_contact_t", json_number(b.baseline_contact_t)},
         });
     }
     return {
         {"baseline", d.baseline},
         {"bounces", bounces},
-        {"bounce_height_rel_max", num(d.bounce_height_rel_max)},
+        {"bounce_height_rel_max", json_number(d.bounce_height_rel_max)},
         {"apexes_self", d.apexes_self},
         {"apexes_baseline", d.apexes_baseline},
         {"note", d.note},
@@ -99,12 +98,12 @@ nlohmann::json damping_json(const DampingCheck& d) {
     return {
         {"contacts", d.contacts},
         {"tangential_contacts", d.tangential_contacts},
-        {"normal_mean", num(d.normal_mean)},
-        {"normal_worst", num(d.normal_worst)},
-        {"tangential_mean", num(d.tangential_mean)},
-        {"tangential_worst", num(d.tangential_worst)},
-        {"normal_tolerance", num(d.normal_tolerance)},
-        {"tangential_tolerance", num(d.tangential_tolerance)},
+        {"normal_mean", json_number(d.normal_mean)},
+        {"normal_worst", json_number(d.normal_worst)},
+        {"tangential_mean", json_number(d.tangential_mean)},
+        {"tangential_worst", json_number(d.tangential_worst)},
+        {"normal_tolerance", json_number(d.normal_tolerance)},
+        {"tangential_tolerance", json_number(d.tangential_tolerance)},
         {"reproduces", d.reproduces},
         {"verdict", d.verdict},
     };
@@ -114,7 +113,7 @@ nlohmann::json comparison_json(const Comparison& c) {
     nlohmann::json thresholds = nlohmann::json::array();
     for (const ThresholdCheck& t : c.thresholds) {
         thresholds.push_back(
-            {{"metric", t.metric}, {"measured", num(t.measured)}, {"limit", num(t.limit)}, {"passed", t.passed}});
+            {{"metric", t.metric}, {"measured", json_number(t.measured)}, {"limit", json_number(t.limit)}, {"passed", t.passed}});
     }
     return {
         {"vs_reference", divergence_json(c.vs_reference)},
@@ -137,37 +136,37 @@ nlohmann::json result_json(const SimulatorSummary& r, const Comparison* c, int d
     j["contacts_unbounded"] = r.contacts_unbounded;
     j["apex_count"] = r.apex_count;
     nlohmann::json apexes = nlohmann::json::array();
-    for (const Apex& a : r.apexes) apexes.push_back({{"t", num(a.t)}, {"height", num(a.height)}});
+    for (const Apex& a : r.apexes) apexes.push_back({{"t", json_number(a.t)}, {"height", json_number(a.height)}});
     j["apexes"] = apexes;
     nlohmann::json floor = nlohmann::json::array();
     for (const ContactEvent& e : r.contact_events) {
         if (e.axis != dim - 1 || e.side > 0) continue;
         if (floor.size() == kReportedApexes) break;
-        floor.push_back({{"t", num(e.t)}, {"restitution", num(e.normal_coefficient)}});
+        floor.push_back({{"t", json_number(e.t)}, {"restitution", json_number(e.normal_coefficient)}});
     }
     j["first_floor_contacts"] = floor;
     nlohmann::json measured = nlohmann::json::array();
     for (std::size_t i = 0; i < r.contact_events.size() && i < kJsonContacts; ++i) {
         const ContactEvent& e = r.contact_events[i];
-        measured.push_back({{"t", num(e.t)},
+        measured.push_back({{"t", json_number(e.t)},
                             {"axis", e.axis},
                             {"side", e.side},
-                            {"normal_coefficient", num(e.normal_coefficient)},
-                            {"tangential_retention", num(e.tangential_retention)}});
+                            {"normal_coefficient", json_number(e.normal_coefficient)},
+                            {"tangential_retention", json_number(e.tangential_retention)}});
     }
     j["contacts_measured"] = measured;
-    j["max_penetration"] = num(r.max_penetration);
-    j["energy_max_rise"] = num(r.energy_max_rise);
-    j["rest_time"] = opt_num(r.rest_time);
-    j["filled_from"] = opt_num(r.filled_from);
+    j["max_penetration"] = json_number(r.max_penetration);
+    j["energy_max_rise"] = json_number(r.energy_max_rise);
+    j["rest_time"] = json_number(r.rest_time);
+    j["filled_from"] = json_number(r.filled_from);
     j["fill_period_steps"] = r.fill_period;
     j["fill_steps"] = r.fill_steps;
-    j["final_state"] = {{"t", num(r.final_state.t)},
+    j["final_state"] = {{"t", json_number(r.final_state.t)},
                         {"position", vec_json(r.final_state.p, dim)},
                         {"velocity", vec_json(r.final_state.v, dim)}};
-    j["run_seconds"] = num(r.run_seconds);
-    j["ns_per_step"] = r.steps > 0 ? num(r.run_seconds * 1e9 / static_cast<double>(r.steps))
-                                   : num(r.run_seconds * 0.0);  // 0, or null when not measured
+    j["run_seconds"] = json_number(r.run_seconds);
+    j["ns_per_step"] = r.steps > 0 ? json_number(r.run_seconds * 1e9 / static_cast<double>(r.steps))
+                                   : json_number(r.run_seconds * 0.0);  // 0, or null when not measured
     if (!r.trajectory_file.empty()) j["trajectory"] = r.trajectory_file;
     if (!r.settings.empty()) {
         nlohmann::json settings = nlohmann::json::array();

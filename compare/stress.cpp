@@ -1,6 +1,7 @@
 #include "compare/stress.h"
 
 #include "compare/atomic_file.h"
+#include "compare/json_number.h"
 #include "compare/summary.h"
 #include "compare/parallel_pairs.h"
 
@@ -516,8 +517,6 @@ std::string csv_field(const std::string& s) {
 std::string num(double v) { return fmt::format("{:.17g}", v); }
 std::string opt_num(const std::optional<double>& v) { return v ? num(*v) : ""; }
 
-nlohmann::json json_opt(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
-nlohmann::json json_finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
 }  // namespace
 
@@ -552,9 +551,9 @@ nlohmann::json stress_json(const StressReport& r, const std::vector<StressCase>&
         nlohmann::json checks = nlohmann::json::object();
         for (const InvariantCheck& c : res.checks)
             checks[to_string(c.invariant)] = {{"checked", c.checked},       {"held", c.held},
-                                              {"tolerance", json_finite(c.tolerance)},
-                                              {"worst", json_finite(c.worst)}, {"first_t", json_opt(c.first_t)},
-                                              {"first_value", json_finite(c.first_value)}};
+                                              {"tolerance", json_number(c.tolerance)},
+                                              {"worst", json_number(c.worst)}, {"first_t", json_number(c.first_t)},
+                                              {"first_value", json_number(c.first_value)}};
         const InvariantCheck* first = res.first_broken();
         results.push_back({{"row", res.row},
                            {"scenario", res.scenario},

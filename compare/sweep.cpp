@@ -1,6 +1,7 @@
 #include "compare/sweep.h"
 
 #include "compare/atomic_file.h"
+#include "compare/json_number.h"
 #include "compare/run.h"
 
 #include <fmt/format.h>
@@ -198,10 +199,6 @@ std::string csv_number(const std::optional<T>& v) {
     else return fmt::format("{:.17g}", *v);
 }
 
-template <class T>
-nlohmann::json json_number(const std::optional<T>& v) {
-    return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
-}
 
 std::string table_number(const std::optional<double>& v, const char* spec) {
     return v ? fmt::format(fmt::runtime(spec), *v) : std::string("-");
