@@ -18,8 +18,12 @@ PACKAGES=(
   libbullet-dev libode-dev libbox2d-dev
 )
 # Node.js and npm install the charting library the HTML pages inline
-# (web/package-lock.json). A machine that already has node and npm keeps them.
+# (web/package-lock.json; every package in it accepts Debian 12's Node 18 and
+# npm 9, and web/.npmrc makes npm refuse one that does not). A machine that
+# already has node and npm keeps them. npm fetches over HTTPS: a fresh
+# minimal Debian has no CA bundle without ca-certificates.
 command -v node >/dev/null && command -v npm >/dev/null || PACKAGES+=(nodejs npm)
+PACKAGES+=(ca-certificates)
 [ "${WITH_BROWSER:-0}" = 1 ] && PACKAGES+=(chromium)
 
 "$ROOT/scripts/packages.sh" "${PACKAGES[@]}"

@@ -1,0 +1,214 @@
+#!/usr/bin/env bash
+# Proves the README's quick start from scratch: its two commands, exactly as
+# the README's "Quick start" block writes them, in a clone of this
+# repository's HEAD inside a minimal Debian 12 root (debootstrap
+# --variant=minbase bookworm), as root. Prints each command's wall time and
+# exit status; exits 1 if either failed, 2 on a usage or set-up problem.
+#
+#   scripts/cleanroom.sh
+#
+# Run it as root on a Debian machine (debootstrap is installed if missing);
+# it needs no systemd. The root is bootstrapped once from the Debian mirrors
+# this machine's apt sources name, and cached as a tarball outside the clone:
+#   CLEANROOM_CACHE   the cache folder (default /var/cache/bouncecheck-cleanroom);
+#                     delete it for a cold run.
+#   CLEANROOM_APT_CACHE  optional: a folder kept between runs for the .deb files
+#                     apt downloads inside the root (the packages are still
+#                     installed from scratch; only the download is skipped).
+#   CLEANROOM_WORK    where the fresh root is unpacked (default /var/tmp);
+#                     the root is removed afterwards.
+#
+# What the clean root takes from this machine, and nothing else:
+#   - /etc/resolv.conf, to resolve the mirrors' and the npm registry's names;
+#   - the extra CA certificates in /usr/local/share/ca-certificates/*.crt and
+#     npm's global config /etc/npmrc, when they exist: a machine that reaches
+#     the registries through a proxy with its own certificate authority needs
+#     them inside the root too (they take effect once the quick start installs
+#     Debian's ca-certificates package, as it does on a real machine);
+#   - the proxy variables http_proxy, https_proxy and no_proxy, when set.
+# The commands run with an otherwise empty environment.
+#
+# /proc, /sys and /dev are bind-mounted into the root for the commands and
+# unmounted on every way out (Ctrl-C included). The root is deleted only once
+# nothing is mounted under it; otherwise the script says so and leaves it.
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+CACHE="${CLEANROOM_CACHE:-/var/cache/bouncecheck-cleanroom}"
+WORK_PARENT="${CLEANROOM_WORK:-/var/tmp}"
+SUITE=bookworm
+
+say() { echo "cleanroom: $*"; }
+die() { echo "cleanroom: $*" >&2; exit 2; }
+
+(($# == 0)) || die "usage: scripts/cleanroom.sh (no arguments; see its opening comment)"
+[ "$(id -u)" -eq 0 ] || die "must run as root (debootstrap, chroot and mount need it)"
+command -v debootstrap >/dev/null || "$ROOT/scripts/packages.sh" debootstrap
+for tool in git tar chroot mount umount flock; do
+  command -v "$tool" >/dev/null || die "$tool is missing on this machine"
+done
+
+# The README's two quick-start commands: the first indented block under
+# "## Quick start", each line without its comment.
+mapfile -t COMMANDS < <(awk '
+  /^## / { in_section = ($0 == "## Quick start"); next }
+  !in_section || done { next }
+  /^    [^ ]/ { line = $0; sub(/^    /, "", line); sub(/[ \t]+#.*$/, "", line); print line; seen = 1; next }
+  seen { done = 1 }
+' "$ROOT/README.md")
+((${#COMMANDS[@]} == 2)) || die "README.md's Quick start should hold exactly two commands, found ${#COMMANDS[@]}"
+
+# The first URI this machine's apt sources give for a suite (one-line
+# sources.list entries and deb822 .sources files alike).
+mirror_for() {
+  local suite="$1" f
+  for f in /etc/apt/sources.list /etc/apt/sources.list.d/*.list; do
+    [ -f "$f" ] || continue
+    # deb [options] URI SUITE COMPONENTS...
+    awk -v s="$suite" '$1 == "deb" { gsub(/\[[^]]*\]/, ""); $0 = $0; if ($3 == s) print $2 }' "$f"
+  done
+  for f in /etc/apt/sources.list.d/*.sources; do
+    [ -f "$f" ] || continue
+    awk -v s="$suite" '
+      function flush() { if (types ~ /(^| )deb( |$)/ && (" " suites " ") ~ (" " s " ") && uri != "") print uri
+                         types = ""; suites = ""; uri = "" }
+      /^[ \t]*$/ { flush(); next }
+      /^Types:/  { sub(/^Types:[ \t]*/, ""); types = $0 }
+      /^Suites:/ { sub(/^Suites:[ \t]*/, ""); suites = $0 }
+      /^URIs:/   { sub(/^URIs:[ \t]*/, ""); uri = $1 }
+      END { flush() }' "$f"
+  done | head -n 1
+}
+MIRROR="$(mirror_for "$SUITE")"
+SECURITY_MIRROR="$(mirror_for "$SUITE-security")"
+[ -n "$MIRROR" ] || die "no apt source for $SUITE on this machine to bootstrap Debian 12 from"
+ARCH="$(dpkg --print-architecture)"
+TARBALL="$CACHE/debian12-minbase-$ARCH.tar.gz"
+
+# --- the cached root --------------------------------------------------------
+
+# Paths mounted at or under $1, deepest first (mountinfo field 5; octal
+# escapes such as \040 for a space are left as they are: our paths have none).
+mounts_under() { awk -v d="$1" '$5 == d || index($5, d "/") == 1 { print $5 }' /proc/self/mountinfo | sort -r; }
+
+# Removes a folder only when nothing is mounted under it: rm -rf through a
+# bind mount of /dev would delete the machine's own device nodes.
+remove_tree() {
+  local dir="$1"
+  [ -e "$dir" ] || return 0
+  if [ -n "$(mounts_under "$dir")" ]; then
+    echo "cleanroom: NOT removing $dir: still mounted under it:" >&2
+    mounts_under "$dir" >&2
+    return 1
+  fi
+  rm -rf --one-file-system "$dir"
+}
+
+mkdir -p "$CACHE"
+exec 9>"$CACHE/.lock"
+flock 9  # one bootstrap at a time; a second run waits, then finds the tarball
+if [ ! -f "$TARBALL" ]; then
+  say "bootstrapping Debian 12 ($SUITE, minbase, $ARCH) from $MIRROR (once; cached as $TARBALL)"
+  staging="$(mktemp -d "$CACHE/bootstrap.XXXXXX")"
+  trap 'remove_tree "$staging" || true' EXIT
+  started=$SECONDS
+  debootstrap --variant=minbase "$SUITE" "$staging/root" "$MIRROR" > "$staging/debootstrap.log" 2>&1 \
+    || { tail -n 40 "$staging/debootstrap.log" >&2; die "debootstrap failed (log above)"; }
+  # A fresh Debian 12 machine's apt sources: the release, its updates and
+  # its security updates, from the same mirrors as this machine.
+  {
+    echo "deb $MIRROR $SUITE main"
+    echo "deb $MIRROR $SUITE-updates main"
+    [ -z "$SECURITY_MIRROR" ] || echo "deb $SECURITY_MIRROR $SUITE-security main"
+  } > "$staging/root/etc/apt/sources.list"
+  # No init system in a chroot: packages must not try to start services.
+  printf '#!/bin/sh\nexit 101\n' > "$staging/root/usr/sbin/policy-rc.d"
+  chmod 755 "$staging/root/usr/sbin/policy-rc.d"
+  tar -C "$staging/root" --numeric-owner -czf "$staging/root.tar.gz" .
+  mv "$staging/root.tar.gz" "$TARBALL"
+  remove_tree "$staging"
+  trap - EXIT
+  say "bootstrapped in $((SECONDS - started)) s"
+fi
+flock -u 9
+
+# --- a fresh root for this run ----------------------------------------------
+
+WORK="$(mktemp -d "$WORK_PARENT/bouncecheck-cleanroom.XXXXXX")"
+ROOTFS="$WORK/root"
+MOUNTED=()
+
+# Every way out: stop what still runs in the root, unmount, and delete the
+# root only if nothing is left mounted under it.
+cleanup() {
+  local pid link
+  for link in /proc/[0-9]*/root; do
+    [ "$(readlink "$link" 2>/dev/null)" = "$ROOTFS" ] || continue
+    pid="${link#/proc/}"; pid="${pid%/root}"
+    kill -KILL "$pid" 2>/dev/null || true
+  done
+  local i
+  for ((i = ${#MOUNTED[@]} - 1; i >= 0; i--)); do
+    umount -R "${MOUNTED[i]}" 2>/dev/null || umount -R -l "${MOUNTED[i]}" 2>/dev/null || true
+  done
+  remove_tree "$WORK" || true
+}
+trap cleanup EXIT
+trap 'exit 130' INT
+trap 'exit 143' TERM
+trap 'exit 129' HUP
+
+mkdir -p "$ROOTFS"
+tar -C "$ROOTFS" --numeric-owner -xzf "$TARBALL"
+
+cp -L /etc/resolv.conf "$ROOTFS/etc/resolv.conf"
+carried=()
+for crt in /usr/local/share/ca-certificates/*.crt; do
+  [ -f "$crt" ] || continue
+  mkdir -p "$ROOTFS/usr/local/share/ca-certificates"
+  cp "$crt" "$ROOTFS/usr/local/share/ca-certificates/"
+  carried+=("$crt")
+done
+[ ! -f /etc/npmrc ] || { cp /etc/npmrc "$ROOTFS/etc/npmrc"; carried+=(/etc/npmrc); }
+((${#carried[@]} == 0)) || say "carried into the root: ${carried[*]}"
+
+git -C "$ROOT" rev-parse --verify -q HEAD >/dev/null || die "$ROOT has no commit to clone"
+git clone -q "$ROOT" "$ROOTFS/root/bouncecheck"
+say "clone of $(git -C "$ROOTFS/root/bouncecheck" rev-parse --short HEAD) at /root/bouncecheck in a fresh root ($WORK)"
+
+for fs in proc sys dev; do
+  mkdir -p "$ROOTFS/$fs"
+  MOUNTED+=("$ROOTFS/$fs")
+  mount --rbind "/$fs" "$ROOTFS/$fs"
+  mount --make-rslave "$ROOTFS/$fs"  # unmounting ours must not unmount the machine's
+done
+if [ -n "${CLEANROOM_APT_CACHE:-}" ]; then
+  mkdir -p "$CLEANROOM_APT_CACHE"
+  MOUNTED+=("$ROOTFS/var/cache/apt/archives")
+  mount --bind "$CLEANROOM_APT_CACHE" "$ROOTFS/var/cache/apt/archives"
+fi
+
+ENVIRONMENT=(HOME=/root LANG=C.UTF-8 TERM="${TERM:-dumb}" PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin)
+for var in http_proxy https_proxy no_proxy HTTP_PROXY HTTPS_PROXY NO_PROXY; do
+  [ -z "${!var:-}" ] || ENVIRONMENT+=("$var=${!var}")
+done
+
+results=()
+failed=0
+for command in "${COMMANDS[@]}"; do
+  say "\$ $command"
+  started=$(date +%s.%N)
+  status=0
+  # In the background and waited for, so that a signal to this script is
+  # handled at once (cleanup stops what runs in the root) rather than after it.
+  chroot "$ROOTFS" /usr/bin/env -i "${ENVIRONMENT[@]}" /bin/bash -c "cd /root/bouncecheck && $command" &
+  wait $! || status=$?
+  seconds=$(echo "$(date +%s.%N) $started" | awk '{ printf "%.0f", $1 - $2 }')
+  results+=("$(printf '%-16s exit %d  %d min %02d s' "$command" "$status" $((seconds / 60)) $((seconds % 60)))")
+  ((status == 0)) || failed=1
+done
+
+say "the README's quick start on a fresh Debian 12 ($SUITE minbase, $ARCH):"
+printf '  %s\n' "${results[@]}"
+((failed == 0)) || { say "FAILED"; exit 1; }
+say "passed"
