@@ -10,18 +10,19 @@
 //
 // Target: EngineRun within 5% of EngineBare per engine; EnginePaired_<engine>
 // measures it side by side as `overhead_pct` (bench/README.md).
-#include "adapters/engine.h"
-#include "reference/document_clock.h"
+#include "engines/engine.h"
+#include "metrics/summary.h"
 #include "scenarios/loader.h"
+#include "simulators/document_clock.h"
 
 #ifdef BOUNCECHECK_WITH_BULLET
-#include "adapters/bullet/bullet_adapter.h"
+#include "engines/bullet/bullet_adapter.h"
 #endif
 #ifdef BOUNCECHECK_WITH_ODE
-#include "adapters/ode/ode_adapter.h"
+#include "engines/ode/ode_adapter.h"
 #endif
 #ifdef BOUNCECHECK_WITH_BOX2D
-#include "adapters/box2d/box2d_adapter.h"
+#include "engines/box2d/box2d_adapter.h"
 #endif
 
 #include <benchmark/benchmark.h>
@@ -45,7 +46,7 @@ Scenario bundled(const std::string& file) {
 // recording. The world is the one the adapter's run() steps, built the same
 // way (EngineSimulator::build_stepped_world, substeps included).
 State run_bare(const Scenario& s, const EngineSimulator& sim, std::int64_t steps) {
-    std::vector<SimulatorSummary::Setting> settings;
+    std::vector<Setting> settings;
     const EngineSimulator::SteppedWorld built = sim.build_stepped_world(s, settings);
     for (std::int64_t n = 0; n < steps * built.substeps; ++n) built.world->step();
     State last;
@@ -64,7 +65,7 @@ void bare(benchmark::State& state, const Scenario& s, const EngineSimulator& sim
 void adapter(benchmark::State& state, const Scenario& s, const Simulator& sim) {
     std::int64_t steps = 0;
     for (auto _ : state) {
-        const SimulatorSummary summary = sim.run(s, nullptr);
+        const SimulatorSummary summary = record_run(sim, s);
         if (summary.status != RunStatus::ok) state.SkipWithError(summary.reason.c_str());
         steps += summary.steps;
         benchmark::DoNotOptimize(summary.final_state);
@@ -92,7 +93,7 @@ void paired(benchmark::State& state, const Scenario& s, const EngineSimulator& s
         auto time_bare = [&] { bare_s = seconds([&] { benchmark::DoNotOptimize(run_bare(s, sim, steps)); }); };
         auto time_adapter = [&] {
             adapter_s = seconds([&] {
-                const SimulatorSummary summary = sim.run(s, nullptr);
+                const SimulatorSummary summary = record_run(sim, s);
                 if (summary.status != RunStatus::ok) state.SkipWithError(summary.reason.c_str());
                 benchmark::DoNotOptimize(summary.final_state);
             });

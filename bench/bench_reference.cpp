@@ -13,11 +13,12 @@
 // subnormal handling), for the side-by-side ratio. ReferenceRun/N: the whole
 // `reference` simulator (Simulator::run with the metrics recorder), as
 // `bouncecheck run` runs it.
-#include "adapters/simulator.h"
-#include "reference/exact_model.h"
+#include "exact/exact_model.h"
+#include "metrics/summary.h"
 #include "reference/plain_reference_model.h"
 #include "reference/reference_model.h"
-#include "reference/simulators.h"
+#include "reference/reference_simulator.h"
+#include "simulators/simulator.h"
 
 #include <benchmark/benchmark.h>
 
@@ -87,7 +88,7 @@ void ReferenceRun(benchmark::State& state) {
     const auto sim = make_reference_simulator();
     std::int64_t steps = 0;
     for (auto _ : state) {
-        const SimulatorSummary summary = sim->run(s, nullptr);
+        const SimulatorSummary summary = record_run(*sim, s);
         steps += summary.steps;
         benchmark::DoNotOptimize(summary.final_state);
     }

@@ -3,15 +3,16 @@
 // Exit status (a contract, see README): 0 ran and every threshold held;
 // 1 a threshold was exceeded; 2 bad input or usage, nothing run;
 // 3 a simulator failed (the other results are still written).
-#include "adapters/simulator.h"
-#include "compare/calibrate.h"
-#include "compare/report.h"
-#include "compare/run.h"
-#include "compare/sweep.h"
-#include "compare/stress.h"
-#include "compare/atomic_file.h"
-#include "compare/trajectory_csv.h"
+#include "commands/calibrate/calibrate_pipeline.h"
+#include "commands/run/run_pipeline.h"
+#include "commands/stress/stress_pipeline.h"
+#include "commands/sweep/sweep_pipeline.h"
+#include "platform/atomic_file.h"
+#include "registry/registry.h"
+#include "reports/run_report.h"
+#include "reports/trajectory_csv.h"
 #include "scenarios/loader.h"
+#include "simulators/simulator.h"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>

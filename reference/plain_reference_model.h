@@ -4,7 +4,7 @@
 // produce results.
 #pragma once
 
-#include "adapters/state.h"
+#include "simulators/state.h"
 #include "scenarios/scenario.h"
 
 #include <array>

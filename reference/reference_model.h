@@ -25,8 +25,8 @@
 // slows down; before that it is the plain hardware step.
 #pragma once
 
-#include "adapters/state.h"
-#include "reference/document_clock.h"
+#include "simulators/state.h"
+#include "simulators/document_clock.h"
 #include "scenarios/scenario.h"
 
 #include <array>

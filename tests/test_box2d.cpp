@@ -1,9 +1,10 @@
 // The Box2D 2.4.1 adapter: against the exact model, inside the room, at the
 // seed's dt, and one test per trap (Box2D's default restored through
 // box2d::Tuning, its physical consequence measured).
-#include "adapters/box2d/box2d_adapter.h"
-#include "adapters/engine.h"
-#include "reference/exact_model.h"
+#include "engines/box2d/box2d_adapter.h"
+#include "engines/engine.h"
+#include "exact/exact_model.h"
+#include "metrics/summary.h"
 #include "scenarios/loader.h"
 #include "tests/support/cli.h"
 #include "tests/support/engine_run.h"
@@ -44,7 +45,7 @@ Box2dRun run_box2d(const Scenario& s, const box2d::Tuning& tuning = {}) {
     const auto sim = box2d::make_simulator(tuning);
     StateVector sink;
     Box2dRun r;
-    r.summary = sim->run(s, &sink);
+    r.summary = record_run(*sim, s, &sink);
     r.states = std::move(sink.states);
     return r;
 }
@@ -170,7 +171,7 @@ TEST(Box2dVsExact, FirstFloorContactApexesAndRestitution) {
     const auto hits = floor_hits(r.states, s.radius);
     ASSERT_GE(hits.size(), 3u);
     double t_exact = -1;
-    for (const Contact& c : exact.contacts())
+    for (const WallContact& c : exact.contacts())
         if (c.axis == 1 && c.side < 0) {
             t_exact = c.t;
             break;
@@ -364,7 +365,7 @@ TEST(Box2dTrap, LinearSlopNeedsScaling) {
     // Euler lead of g dt t / 2 = 6 mm, 15 ms, at this dt).
     EXPECT_GT(good[0].min_height(), s.radius - 0.001);
     double t_exact = 0;
-    for (const Contact& c : exact.contacts())
+    for (const WallContact& c : exact.contacts())
         if (c.axis == 1 && c.side < 0) {
             t_exact = c.t;
             break;

@@ -2,8 +2,8 @@
 // seeds, the planar 2D mapping, the per-contact hook, and one test per trap:
 // each restores Bullet's default through bullet::Tuning and measures what it
 // does to the ball, next to the chosen setting doing the right thing.
-#include "adapters/bullet/bullet_adapter.h"
-#include "reference/exact_model.h"
+#include "engines/bullet/bullet_adapter.h"
+#include "exact/exact_model.h"
 #include "scenarios/loader.h"
 #include "tests/support/engine_run.h"
 
@@ -59,7 +59,7 @@ std::string setting(const SimulatorSummary& summary, const std::string& key) {
 // Steps the world directly (the same world run() builds), one state per step.
 struct Probe {
     std::vector<State> states;
-    std::vector<SimulatorSummary::Setting> settings;
+    std::vector<Setting> settings;
     bullet::Stats stats;
     bool active_at_end = true;
     double max_abs_engine_y = 0, max_abs_engine_vy = 0;  // the 2D run's locked axis
@@ -106,7 +106,7 @@ std::vector<Bounce> floor_bounces(const Scenario& s, const std::vector<State>& s
 }
 
 double first_floor_contact_time(const ExactModel& m, int z) {
-    for (const Contact& c : m.contacts())
+    for (const WallContact& c : m.contacts())
         if (c.axis == z && c.side < 0) return c.t;
     return -1;
 }
@@ -374,7 +374,7 @@ TEST(BulletTraps, ContactBreakingThresholdEatsTheBounceAtSmallStep) {
 TEST(BulletTraps, WorldGravityIsTheScenarios) {
     const Scenario s = drop(0.2, 0.01, 2.2);
     const auto world = [&](const Tuning& t) {
-        std::vector<SimulatorSummary::Setting> settings;
+        std::vector<Setting> settings;
         return bullet::build_world(s, s.engine_options("bullet"), t, settings);
     };
     Tuning dflt = Tuning::chosen();

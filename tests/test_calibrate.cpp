@@ -1,7 +1,7 @@
 // Calibration: the search finds the mu that minimises divergence, and the
 // scenario file is edited without losing anything else.
-#include "adapters/engine.h"
-#include "compare/calibrate.h"
+#include "engines/engine.h"
+#include "commands/calibrate/calibrate_pipeline.h"
 #include "reference/reference_model.h"
 #include "scenarios/loader.h"
 
@@ -23,7 +23,7 @@ public:
 
 protected:
     std::unique_ptr<EngineWorld> build(const Scenario& s, const EngineOptions& options,
-                                       std::vector<SimulatorSummary::Setting>& settings) const override {
+                                       std::vector<Setting>& settings) const override {
         struct World final : EngineWorld {
             explicit World(const Scenario& s) : model(s) {}
             void step() override { model.step(); }

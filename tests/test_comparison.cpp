@@ -1,9 +1,9 @@
 // Comparisons: a simulator against itself, against known shifted copies,
 // against a different damping law; thresholds gate the exit status.
-#include "adapters/engine.h"
-#include "compare/run.h"
+#include "commands/run/run_pipeline.h"
+#include "engines/engine.h"
 #include "reference/reference_model.h"
-#include "reference/simulators.h"
+#include "reference/reference_simulator.h"
 #include "scenarios/loader.h"
 #include "tests/support/cli.h"
 
@@ -35,7 +35,7 @@ std::unique_ptr<const Simulator> shifted_reference(const std::string& name, Vec3
     d.name = name;
     d.description = "test stand-in";
     d.build = [offset, alpha](const Scenario& s, const EngineOptions&,
-                              std::vector<SimulatorSummary::Setting>&) -> std::unique_ptr<EngineWorld> {
+                              std::vector<Setting>&) -> std::unique_ptr<EngineWorld> {
         struct World final : EngineWorld {
             World(const Scenario& s, Vec3 offset) : model(s), offset(offset) {}
             void step() override { model.step(); }

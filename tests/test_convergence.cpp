@@ -1,6 +1,6 @@
 // The reference is explicit Euler on the same damping law as exact, so its
 // trajectory error against exact must fall at first order as dt halves.
-#include "reference/exact_model.h"
+#include "exact/exact_model.h"
 #include "reference/reference_model.h"
 #include "scenarios/loader.h"
 

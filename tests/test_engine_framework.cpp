@@ -1,8 +1,8 @@
 // The part every engine adapter shares: contact detection from a state
 // stream, the stepping loop, failure handling, capability checks.
-#include "adapters/engine.h"
-#include "compare/summary.h"
-#include "reference/document_clock.h"
+#include "engines/engine.h"
+#include "metrics/summary.h"
+#include "simulators/document_clock.h"
 #include "scenarios/loader.h"
 
 #include <gtest/gtest.h>
@@ -159,7 +159,7 @@ public:
 
 protected:
     std::unique_ptr<EngineWorld> build(const Scenario& s, const EngineOptions&,
-                                       std::vector<SimulatorSummary::Setting>& settings) const override {
+                                       std::vector<Setting>& settings) const override {
         settings.push_back({"gravity", "scenario's", "test"});
         built_dt = s.dt;
         struct World final : EngineWorld {
@@ -184,7 +184,7 @@ TEST(EngineSimulator, SharedLoopStepsOnTheDocumentClock) {
     const Scenario s = seed3d();
     const FakeEngine engine;
     StateVector states;
-    const SimulatorSummary r = engine.run(s, &states);
+    const SimulatorSummary r = record_run(engine, s, &states);
     EXPECT_EQ(r.status, RunStatus::ok);
     EXPECT_EQ(r.steps, document_step_count(s.dt, s.duration));
     EXPECT_EQ(engine.steps, r.steps);
@@ -204,7 +204,7 @@ TEST(EngineSimulator, SubstepsStepAWorldBuiltForTheShorterStep) {
     Scenario s = seed3d();
     s.engines["ode"].substeps = 3;  // the fake engine is named "ode"
     const FakeEngine engine;
-    const SimulatorSummary r = engine.run(s, nullptr);
+    const SimulatorSummary r = record_run(engine, s);
     EXPECT_EQ(r.status, RunStatus::ok);
     EXPECT_EQ(r.steps, document_step_count(s.dt, s.duration));  // states on the scenario's clock
     EXPECT_EQ(engine.steps, 3 * r.steps);
@@ -215,7 +215,7 @@ TEST(EngineSimulator, SubstepsStepAWorldBuiltForTheShorterStep) {
 
 TEST(EngineSimulator, NonFiniteStateFailsTheRunAndStopsStepping) {
     const FakeEngine engine(/*fail_at_step=*/10);
-    const SimulatorSummary r = engine.run(seed3d(), nullptr);
+    const SimulatorSummary r = record_run(engine, seed3d());
     EXPECT_EQ(r.status, RunStatus::failed);
     EXPECT_NE(r.reason.find("non-finite"), std::string::npos) << r.reason;
     EXPECT_EQ(engine.steps, 10);

@@ -1,4 +1,4 @@
-#include "reference/exact_model.h"
+#include "exact/exact_model.h"
 
 #include <gtest/gtest.h>
 
@@ -52,7 +52,7 @@ TEST(ExactModelDrop, HitsFloorAtFreeFallTime) {
         const double g = 9.81;
         const ExactModel model(drop(h, g, 0.8));
         ASSERT_FALSE(model.contacts().empty());
-        const Contact& c = model.contacts().front();
+        const WallContact& c = model.contacts().front();
         EXPECT_EQ(c.axis, 2);
         EXPECT_EQ(c.side, -1);
         EXPECT_NEAR(c.t, std::sqrt(2 * h / g), 1e-12 * std::sqrt(2 * h / g));
@@ -110,7 +110,7 @@ TEST(ExactModelZeno, TailStateFollowsTheHopSequence) {
     const Scenario s = drop(0.45, g, alpha, beta, {0.01, 0, 0});
     const ExactModel model(s);
     ASSERT_EQ(model.summed_tail_contacts(), -1);
-    const Contact& first = model.contacts().front();
+    const WallContact& first = model.contacts().front();
     double t = first.t, u = first.v_after[2], x = first.p[0], vx = first.v_after[0];
     for (int k = 0; k < 30; ++k) {
         const double hop = 2 * u / g;
@@ -135,7 +135,7 @@ TEST(ExactModelZeno, TangentialTravelMatchesClosedForm) {
     const Scenario s = make_scenario(3, {10, 10, 1}, 0.05, {5, 5, 0.5}, v, {0, 0, -g}, alpha, beta, 20);
     const ExactModel model(s);
     ASSERT_EQ(model.contacts().size(), 1u);
-    const Contact& c = model.contacts().front();
+    const WallContact& c = model.contacts().front();
     const double u = c.v_after[2];
     const double tail_time = (2 * u / g) / (1 - alpha * beta);
     const State rest = model.state_at(*model.rest_time() + 1);
@@ -149,14 +149,14 @@ TEST(ExactModelZeno, BetaOneSlidesAfterRestAndBouncesOffSideWalls) {
     const Scenario s = make_scenario(3, {1, 1, 1}, 0.05, {0.5, 0.5, 0.5}, {0.05, 0, 0}, {0, 0, -g}, alpha, 1.0, 60);
     const ExactModel model(s);
     ASSERT_TRUE(model.rest_time());
-    const Contact& last_floor = model.contacts().front();
+    const WallContact& last_floor = model.contacts().front();
     ASSERT_EQ(last_floor.axis, 2);
     const State rest = model.state_at(*model.rest_time());
     EXPECT_EQ(rest.v[0], last_floor.v_after[0]);  // beta = 1: the tail keeps the sliding speed
     EXPECT_EQ(rest.v[2], 0.0);
     // Sliding on the floor, it reaches the side wall with the floor axis locked.
     ASSERT_GE(model.contacts().size(), 2u);
-    const Contact& side = model.contacts()[1];
+    const WallContact& side = model.contacts()[1];
     EXPECT_GT(side.t, *model.rest_time());
     EXPECT_EQ(side.axis, 0);
     EXPECT_EQ(side.side, +1);
@@ -169,7 +169,7 @@ TEST(ExactModelZeno, SeedRestTimeMatchesLastResolvedBounce) {
     for (const Scenario& s : {seed_3d(), seed_2d()}) {
         const ExactModel model(s);
         ASSERT_TRUE(model.rest_time());
-        const Contact& c = model.contacts().back();
+        const WallContact& c = model.contacts().back();
         const int z = s.vertical_axis();
         ASSERT_EQ(c.axis, z);
         const double g = -s.gravity[z];
@@ -181,7 +181,7 @@ TEST(ExactModelZeno, SeedRestTimeMatchesLastResolvedBounce) {
 TEST(ExactModelSeed, Seed3dBouncesOffBackWallAtStart) {
     const ExactModel model(seed_3d());
     ASSERT_FALSE(model.contacts().empty());
-    const Contact& c = model.contacts().front();
+    const WallContact& c = model.contacts().front();
     EXPECT_EQ(c.t, 0.0);
     EXPECT_EQ(c.axis, 1);
     EXPECT_EQ(c.side, +1);
@@ -198,7 +198,7 @@ TEST(ExactModelCorner, EqualTimesApplyBothWalls) {
     const Scenario s = make_scenario(2, {1, 1, 0}, 0.05, {0.5, 0.5, 0}, {1, 1, 0}, Vec3::Zero(), alpha, beta, 1);
     const ExactModel model(s);
     ASSERT_EQ(model.contacts().size(), 2u);
-    const Contact &a = model.contacts()[0], &b = model.contacts()[1];
+    const WallContact &a = model.contacts()[0], &b = model.contacts()[1];
     EXPECT_EQ(a.t, b.t);
     EXPECT_EQ(a.axis, 0);
     EXPECT_EQ(b.axis, 1);
@@ -219,7 +219,7 @@ TEST(ExactModelCorner, GravityShotIntoFloorEdgeAppliesBothWalls) {
         make_scenario(2, {1, 1, 0}, 0.05, {0.5, 0.5, 0}, {0.45 / fall, 0, 0}, {0, -g, 0}, alpha, beta, 0.5 * fall + fall);
     const ExactModel model(s);
     ASSERT_GE(model.contacts().size(), 2u);
-    const Contact &a = model.contacts()[0], &b = model.contacts()[1];
+    const WallContact &a = model.contacts()[0], &b = model.contacts()[1];
     EXPECT_EQ(a.t, b.t);
     EXPECT_EQ(a.axis, 0);
     EXPECT_EQ(a.side, +1);
@@ -233,7 +233,7 @@ TEST(ExactModelCorner, ThreeWallsAtOnce) {
     const Scenario s = make_scenario(3, {1, 1, 1}, 0.05, {0.5, 0.5, 0.5}, {-1, 1, -1}, Vec3::Zero(), 0.8, 0.9, 1);
     const ExactModel model(s);
     ASSERT_EQ(model.contacts().size(), 3u);
-    for (const Contact& c : model.contacts()) EXPECT_EQ(c.t, model.contacts().front().t);
+    for (const WallContact& c : model.contacts()) EXPECT_EQ(c.t, model.contacts().front().t);
     EXPECT_DOUBLE_EQ(model.contacts().back().v_after[0], 0.8 * 0.81);
     EXPECT_DOUBLE_EQ(model.contacts().back().v_after[1], -0.8 * 0.81);
     EXPECT_DOUBLE_EQ(model.contacts().back().v_after[2], 0.8 * 0.81);
@@ -247,14 +247,14 @@ TEST(ExactModelBounds, StaysInsideRoomAtRandomTimes) {
         const ExactModel model(s);
         std::uniform_real_distribution<double> time(0, s.duration);
         for (int n = 0; n < 100'000; ++n) expect_inside(s, model.state_at(time(rng)));
-        for (const Contact& c : model.contacts()) expect_inside(s, model.state_at(c.t));
+        for (const WallContact& c : model.contacts()) expect_inside(s, model.state_at(c.t));
     }
 }
 
 TEST(ExactModelBounds, PositionIsContinuousThroughContacts) {
     const Scenario s = seed_3d();
     const ExactModel model(s);
-    for (const Contact& c : model.contacts()) {
+    for (const WallContact& c : model.contacts()) {
         const State before = model.state_at(c.t - 1e-9);
         if (c.t > 0) {
             EXPECT_LT((before.p - c.p).norm(), 1e-9);
@@ -284,7 +284,7 @@ TEST(ExactModelEnergy, ConstantBetweenContactsNonIncreasingAcross) {
     for (const Scenario& s : scenarios) {
         const ExactModel model(s);
         const auto& contacts = model.contacts();
-        for (const Contact& c : contacts)
+        for (const WallContact& c : contacts)
             EXPECT_LE(c.v_after.squaredNorm(), c.v_before.squaredNorm() * (1 + 1e-15));
         // Between two resolved contacts: constant.
         for (std::size_t k = 0; k + 1 < contacts.size(); ++k) {
@@ -310,7 +310,7 @@ TEST(ExactModelElastic, ZeroGravityConservesSpeedOverManyContacts) {
     const ExactModel model(s);
     ASSERT_GE(model.contacts().size(), 10'000u);
     EXPECT_FALSE(model.event_cap_hit());
-    for (const Contact& c : model.contacts()) {
+    for (const WallContact& c : model.contacts()) {
         ASSERT_NEAR(c.v_after.norm(), v.norm(), 1e-12 * v.norm());
         ASSERT_EQ(c.v_after.cwiseAbs(), v.cwiseAbs());
     }
@@ -325,7 +325,7 @@ TEST(ExactModelAlphaZero, RestsAtFirstFloorImpact) {
     const Scenario s = drop(0.45, 9.81, 0.0, beta, {0.1, 0, 0});
     const ExactModel model(s);
     ASSERT_TRUE(model.rest_time());
-    const Contact& floor = model.contacts().front();
+    const WallContact& floor = model.contacts().front();
     EXPECT_EQ(floor.axis, 2);
     EXPECT_EQ(*model.rest_time(), floor.t);
     const State after = model.state_at(floor.t + 1);
@@ -369,11 +369,11 @@ TEST(ExactModel2D, Seed2dWorks) {
     const ExactModel model(s);
     ASSERT_FALSE(model.contacts().empty());
     // It starts against the ceiling but not moving into it: no contact at 0.
-    const Contact& first = model.contacts().front();
+    const WallContact& first = model.contacts().front();
     EXPECT_EQ(first.axis, 0);
     EXPECT_EQ(first.side, +1);
     EXPECT_NEAR(first.t, 0.45 / 0.3, 1e-12);
-    for (const Contact& c : model.contacts()) {
+    for (const WallContact& c : model.contacts()) {
         EXPECT_LT(c.axis, 2);
         EXPECT_EQ(c.p[2], 0.0);
         EXPECT_EQ(c.v_after[2], 0.0);

@@ -2,14 +2,15 @@
 // series keep every spike, exact's path has its contacts at their instants,
 // and the page is self-contained and parses back to the run's numbers.
 // (Rendering in a real browser: tests/browser/check_pages.sh.)
-#include "adapters/simulator.h"
-#include "compare/plot_data.h"
-#include "compare/report.h"
-#include "compare/run.h"
-#include "compare/web_assets.h"
-#include "reference/exact_model.h"
-#include "reference/simulators.h"
+#include "commands/run/run_pipeline.h"
+#include "exact/exact_model.h"
+#include "metrics/summary.h"
+#include "reference/reference_simulator.h"
+#include "reports/plot_data.h"
+#include "reports/run_report.h"
+#include "reports/web_assets.h"
 #include "scenarios/loader.h"
+#include "simulators/simulator.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -30,7 +31,7 @@ TEST(TraceDecimator, KeepsEveryVerticalReversalWithinTheBudget) {
     StateVector all;
     TraceDecimator decimator(expected_states(s), 100);
     TeeSink both{&all, &decimator};
-    make_reference_simulator()->run(s, &both);
+    record_run(*make_reference_simulator(), s, &both);
     const PlotTrace trace = decimator.finish();
 
     // Fewer points than states, but every floor contact (vertical velocity
@@ -77,7 +78,7 @@ TEST(ExactPlotTrace, HasEveryContactAtItsInstantAndPosition) {
     const ExactModel exact(s);
     const PlotTrace trace = exact_plot_trace(exact, s);
     ASSERT_FALSE(exact.contacts().empty());
-    for (const Contact& c : exact.contacts()) {
+    for (const WallContact& c : exact.contacts()) {
         const auto it = std::find(trace.t.begin(), trace.t.end(), c.t);
         ASSERT_NE(it, trace.t.end()) << "contact at t = " << c.t;
         EXPECT_EQ(trace.p[static_cast<std::size_t>(it - trace.t.begin())], c.p);

@@ -1,8 +1,9 @@
 // An engine that aborts, crashes or hangs on to the process costs only its
 // own result when engines run in child processes (RunRequest::isolate).
-#include "compare/isolation.h"
-#include "compare/run.h"
-#include "reference/simulators.h"
+#include "commands/run/run_pipeline.h"
+#include "exact/exact_simulator.h"
+#include "platform/isolation.h"
+#include "reference/reference_simulator.h"
 #include "scenarios/loader.h"
 
 #include <gtest/gtest.h>
@@ -20,8 +21,8 @@ public:
     std::string_view name() const override { return "aborting"; }
     std::string_view description() const override { return "aborts in the middle of its run"; }
     bool third_party() const override { return true; }
-    SimulatorSummary run(const Scenario&, StateSink* sink) const override {
-        if (sink) sink->write(State{});
+    RunOutcome run(const Scenario&, RunSink& sink) const override {
+        sink.on_state(State{}, ContactMask{});
         std::fprintf(stderr, "btAssert: broadphase proxy out of range\n");
         std::abort();
     }
@@ -60,7 +61,7 @@ TEST(Isolation, AnIsolatedRunGivesTheSameResultAsInProcess) {
         std::string_view name() const override { return inner->name(); }
         std::string_view description() const override { return inner->description(); }
         bool third_party() const override { return true; }
-        SimulatorSummary run(const Scenario& s, StateSink* sink) const override { return inner->run(s, sink); }
+        RunOutcome run(const Scenario& s, RunSink& sink) const override { return inner->run(s, sink); }
     } wrapped;
     const Scenario s = seed_2d();
     RunRequest request{{&wrapped}, {}, false, {}, true};

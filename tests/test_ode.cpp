@@ -2,8 +2,9 @@
 // each runs the engine with the trap's default (or the samples' usual value)
 // put back through ode::Tuning and checks what it does to the ball, next to
 // the adapter's chosen setting.
-#include "adapters/ode/ode_adapter.h"
-#include "reference/exact_model.h"
+#include "engines/ode/ode_adapter.h"
+#include "exact/exact_model.h"
+#include "metrics/summary.h"
 #include "scenarios/loader.h"
 #include "tests/support/engine_run.h"
 
@@ -59,9 +60,9 @@ Scenario friction_drop(double mu, double dt = 1e-3) {
 test::SimulatorRun run_ode(const Scenario& s, const Tuning& tuning = Tuning::chosen()) {
     const auto sim = ode::make_simulator(tuning);
     test::SimulatorRun run;
-    run.summary = sim->run(s, nullptr);
+    run.summary = record_run(*sim, s);
     // States: step a second, identical world directly (same tuning, same options).
-    std::vector<SimulatorSummary::Setting> ignored;
+    std::vector<Setting> ignored;
     const auto world = ode::build_world(s, s.engine_options("ode"), tuning, ignored);
     State st{0.0, s.position, s.velocity};
     run.states.push_back(st);
@@ -98,14 +99,14 @@ std::vector<StreamContact> floor_contacts(const Scenario& s, const std::vector<S
     return stream_contacts(states, s.vertical_axis(), -1);
 }
 
-std::vector<Contact> exact_floor_contacts(const Scenario& s, const ExactModel& exact) {
-    std::vector<Contact> out;
-    for (const Contact& c : exact.contacts())
+std::vector<WallContact> exact_floor_contacts(const Scenario& s, const ExactModel& exact) {
+    std::vector<WallContact> out;
+    for (const WallContact& c : exact.contacts())
         if (c.axis == s.vertical_axis() && c.side < 0) out.push_back(c);
     return out;
 }
 
-const SimulatorSummary::Setting* find_setting(const SimulatorSummary& summary, const std::string& key) {
+const Setting* find_setting(const SimulatorSummary& summary, const std::string& key) {
     for (const auto& st : summary.settings)
         if (st.key == key) return &st;
     return nullptr;
@@ -218,7 +219,7 @@ TEST(OdePlanar, TwoDimensionalBallStaysInThePlane) {
     EngineOptions friction;
     friction.friction = 0.05;  // friction spins the ball: a tilt would show in x/y angular velocity
     s.engines["ode"] = friction;
-    std::vector<SimulatorSummary::Setting> settings;
+    std::vector<Setting> settings;
     const auto world = ode::build_world(s, s.engine_options("ode"), Tuning::chosen(), settings);
     double max_z = 0, max_tilt = 0, max_spin = 0;
     for (int i = 0; i < 1667; ++i) {
@@ -268,7 +269,7 @@ TEST(OdeTraps, BounceVelocityZeroKeepsTheBallBouncing) {
     EXPECT_GT(chosen_top, 1e-3);                         // still bouncing
 }
 
-// Contact CFM: with ODE's world CFM 1e-5 the contact is soft. The LCP
+// WallContact CFM: with ODE's world CFM 1e-5 the contact is soft. The LCP
 // diagonal grows by CFM/dt relative to 1/m, so at dt = 1e-3 and 1 kg the
 // normal impulse falls ~1% short: restitution ~0.78 instead of 0.8.
 TEST(OdeTraps, ContactCfmZeroGivesRestitutionAlpha) {
@@ -286,7 +287,7 @@ TEST(OdeTraps, ContactCfmZeroGivesRestitutionAlpha) {
     EXPECT_LT(e_trap, s.alpha - 0.01);
 }
 
-// Contact ERP and max correcting velocity: ODE pushes an overlapping sphere
+// WallContact ERP and max correcting velocity: ODE pushes an overlapping sphere
 // out at ERP x depth / dt, capped by the max correcting velocity (default
 // infinity): speed from nowhere. A bounce never triggers it (the overlap of
 // one step is at most v dt, so 0.2 v < alpha v), but any deeper overlap does:
@@ -297,7 +298,7 @@ TEST(OdeTraps, NoPenetrationPushOutAddsNoEnergy) {
     s.position = {0.5, s.radius - 0.01, 0};  // 1 cm overlap, at rest
     s.velocity = {0, 0, 0};
     const auto highest = [&](const Tuning& t) {
-        std::vector<SimulatorSummary::Setting> settings;
+        std::vector<Setting> settings;
         const auto world = ode::build_world(s, {}, t, settings);
         double top = -1;
         State st;
@@ -459,7 +460,7 @@ TEST(OdeTraps, WorldStepSolvesTheBounceExactly) {
     EXPECT_GT(std::abs(e_quick - s.alpha), 1e-13);
 }
 
-// Contact points: sphere against plane gives one point per wall, so each wall
+// WallContact points: sphere against plane gives one point per wall, so each wall
 // contact is one constraint row (several points would share one impulse and
 // could turn the ball). A corner gives one contact per wall, each bouncing by
 // alpha along its own axis.
@@ -468,7 +469,7 @@ TEST(OdeTraps, OneContactPointPerWallAndCornersBounceOnBothAxes) {
     s.gravity = {0, 0, 0};
     s.position = {0.5, 0.5, 0};
     s.velocity = {0.3, 0.3, 0};  // reaches the upper-right corner: both walls at once
-    std::vector<SimulatorSummary::Setting> settings;
+    std::vector<Setting> settings;
     const auto world = ode::build_world(s, s.engine_options("ode"), Tuning::chosen(), settings);
     State prev{0, s.position, s.velocity}, cur;
     bool corner = false;
@@ -512,7 +513,7 @@ TEST(OdePerContact, BetaOncePerContact) {
     slide.engines["ode"] = opt;
     slide.position = {0.2, slide.radius, 0};
     slide.velocity = {0.3, 0, 0};  // resting on the floor, sliding for 1000 steps
-    std::vector<SimulatorSummary::Setting> settings;
+    std::vector<Setting> settings;
     const auto world = ode::build_world(slide, opt, Tuning::chosen(), settings);
     for (int i = 0; i < 1000; ++i) world->step();
     State st;
@@ -531,7 +532,7 @@ TEST(OdeRotation, LockedRotationStaysZero) {
     opt.friction = 0.05;
     opt.free_rotation = false;
     s.engines["ode"] = opt;
-    std::vector<SimulatorSummary::Setting> settings;
+    std::vector<Setting> settings;
     const auto world = ode::build_world(s, opt, Tuning::chosen(), settings);
     double max_w = 0;
     for (int i = 0; i < 1400; ++i) {
@@ -544,7 +545,7 @@ TEST(OdeRotation, LockedRotationStaysZero) {
 // Global init: repeated runs and several live worlds give identical results.
 TEST(OdeInit, RepeatedRunsAndSeveralWorldsAgree) {
     const Scenario s = seed(3);
-    std::vector<SimulatorSummary::Setting> settings;
+    std::vector<Setting> settings;
     const auto a = ode::build_world(s, {}, Tuning::chosen(), settings);
     const auto b = ode::build_world(s, {}, Tuning::chosen(), settings);
     State sa, sb;

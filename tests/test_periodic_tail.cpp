@@ -2,13 +2,14 @@
 // micro-bounce at rest, exact at rest), the rest of the run is handed over as
 // a periodic tail instead of being stepped. Everything recorded must be what
 // stepping on gives, bit for bit.
-#include "adapters/simulator.h"
-#include "compare/comparison.h"
-#include "compare/summary.h"
-#include "reference/exact_model.h"
+#include "comparison/comparison.h"
+#include "exact/exact_model.h"
+#include "exact/exact_simulator.h"
+#include "metrics/summary.h"
 #include "reference/reference_model.h"
-#include "reference/simulators.h"
+#include "reference/reference_simulator.h"
 #include "scenarios/loader.h"
+#include "simulators/simulator.h"
 
 #include <gtest/gtest.h>
 
@@ -105,7 +106,7 @@ public:
 SimulatorSummary expect_reference_tail_is_stepping(const Scenario& s) {
     SCOPED_TRACE(s.name + ", duration " + std::to_string(s.duration));
     DigestSink filled_states, stepped_states;
-    const SimulatorSummary filled = make_reference_simulator()->run(s, &filled_states);
+    const SimulatorSummary filled = record_run(*make_reference_simulator(), s, &filled_states);
     const SimulatorSummary expected = stepped(s, &stepped_states);
     expect_same_summary(filled, expected);
     EXPECT_EQ(filled_states.states, stepped_states.states);
@@ -185,7 +186,7 @@ TEST(PeriodicTail, ExactAtRestIsHandedOverAndMatchesSamplingBitForBit) {
         s.duration = 3000;
         SCOPED_TRACE(file);
         DigestSink filled_states, sampled_states;
-        const SimulatorSummary filled = make_exact_simulator()->run(s, &filled_states);
+        const SimulatorSummary filled = record_run(*make_exact_simulator(), s, &filled_states);
         const ExactModel model(s);
         StreamRecorder recorder(s, &sampled_states);
         model.sample_document_clock([&](const State& st) { recorder.on_state(st, ContactMask{}); });
@@ -212,7 +213,7 @@ TEST(PeriodicTail, ExactSlidingAlongTheFloorIsNotHandedOver) {
     Scenario s = seed("seed-2d.toml");
     s.beta = 1.0;
     s.duration = 200;
-    const SimulatorSummary r = make_exact_simulator()->run(s, nullptr);
+    const SimulatorSummary r = record_run(*make_exact_simulator(), s);
     EXPECT_FALSE(r.filled_from.has_value());
 }
 
@@ -286,7 +287,7 @@ TEST(PeriodicTail, ComparisonOfATailMatchesStateByStateBitForBit) {
         TrajectoryComparer tail(c.s, exact, cut, exact.rest_time()), each(c.s, exact, cut, exact.rest_time());
         tail.record_series(c.stride);
         each.record_series(c.stride);
-        const SimulatorSummary filled = make_reference_simulator()->run(c.s, &tail);
+        const SimulatorSummary filled = record_run(*make_reference_simulator(), c.s, &tail);
         ASSERT_TRUE(filled.filled_from.has_value());
         stepped(c.s, &each);
         expect_same_divergence(tail.vs_reference(), each.vs_reference());

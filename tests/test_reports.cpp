@@ -1,6 +1,6 @@
 // The run reports: report.json, the terminal comparison table, report.md,
 // junit.xml and bounces.csv, on a RunReport built by hand.
-#include "compare/report.h"
+#include "reports/run_report.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

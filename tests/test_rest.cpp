@@ -1,9 +1,10 @@
 // Rest: detected from the state stream, and reached by every engine when
 // physics says so — no threshold or sleeping setting ends the bouncing early.
-#include "adapters/simulator.h"
-#include "compare/summary.h"
-#include "reference/exact_model.h"
+#include "exact/exact_model.h"
+#include "metrics/summary.h"
+#include "registry/registry.h"
 #include "scenarios/loader.h"
+#include "simulators/simulator.h"
 #include "tests/support/engine_run.h"
 
 #include <gtest/gtest.h>
@@ -56,7 +57,7 @@ TEST(EngineRest, EveryEngineRestsWhenExactDoes) {
         ASSERT_TRUE(exact.rest_time().has_value());
         for (const auto& sim : built_simulators()) {
             if (sim->name() == "reference" || sim->name() == "exact" || sim->cannot_run(s)) continue;
-            const SimulatorSummary r = sim->run(s, nullptr);
+            const SimulatorSummary r = record_run(*sim, s);
             ASSERT_EQ(r.status, RunStatus::ok) << sim->name() << ": " << r.reason;
             ASSERT_TRUE(r.rest_time.has_value()) << sim->name() << " on " << file << " never rests";
             EXPECT_NEAR(*r.rest_time, *exact.rest_time(), 0.5) << sim->name() << " on " << file;

@@ -1,8 +1,8 @@
 // The stress suite: the invariant checks against deliberately broken
 // simulators, the Monte-Carlo generator, the bundled stress files and the
 // ccd / substeps options they use, and `bouncecheck stress` end to end.
-#include "adapters/simulator.h"
-#include "compare/stress.h"
+#include "simulators/simulator.h"
+#include "commands/stress/stress_pipeline.h"
 #include "scenarios/loader.h"
 #include "tests/support/cli.h"
 #include "tests/support/engine_run.h"
@@ -56,18 +56,15 @@ public:
         : state_(std::move(state)), cost_(std::move(cost)) {}
     std::string_view name() const override { return "scripted"; }
     std::string_view description() const override { return "test double"; }
-    SimulatorSummary run(const Scenario& s, StateSink* sink) const override {
-        SimulatorSummary out;
-        out.simulator = "scripted";
-        StreamRecorder recorder(s, sink);
+    RunOutcome run(const Scenario& s, RunSink& sink) const override {
+        RunOutcome out;
         const auto steps = static_cast<std::int64_t>(std::llround(s.duration / s.dt));
         out.run_seconds = timed_seconds([&] {
-            for (std::int64_t n = 0; n <= steps && !recorder.failed(); ++n) {
+            for (std::int64_t n = 0; n <= steps; ++n) {
                 if (cost_) cost_(n);
-                recorder.on_state(state_(n, s), ContactMask{});
+                if (!sink.on_state(state_(n, s), ContactMask{})) return;
             }
         });
-        recorder.finish(out);
         return out;
     }
 

@@ -1,9 +1,11 @@
 // The work-precision sweep: --dt parsing, the reference's observed order,
 // independence of --jobs, skipped and failed pairs, and the command end to end.
-#include "adapters/simulator.h"
-#include "compare/sweep.h"
-#include "reference/simulators.h"
+#include "commands/sweep/sweep_pipeline.h"
+#include "metrics/summary.h"
+#include "reference/reference_simulator.h"
+#include "registry/registry.h"
 #include "scenarios/loader.h"
+#include "simulators/simulator.h"
 #include "tests/support/cli.h"
 
 #include <gtest/gtest.h>
@@ -143,8 +145,8 @@ TEST(SweepTiming, ReferencesUnrecordedRunEndsInTheSameState) {
     for (const char* name : {"seed-2d.toml", "seed-3d.toml"}) {
         Scenario s = load_scenario(kScenarios + "/" + name);
         s.duration = 40000;  // through the periodic rest (~1.1e6 steps in)
-        const SimulatorSummary recorded = reference->run(s, nullptr);
-        const SimulatorSummary unrecorded = reference->run_unrecorded(s);
+        const SimulatorSummary recorded = record_run(*reference, s);
+        const UnrecordedRun unrecorded = reference->run_unrecorded(s);
         EXPECT_EQ(unrecorded.status, RunStatus::ok);
         EXPECT_EQ(unrecorded.steps, recorded.steps) << name;
         EXPECT_EQ(unrecorded.final_state.t, recorded.final_state.t) << name;
@@ -216,11 +218,9 @@ public:
     explicit Fragile(const Simulator& inner) : inner_(inner) {}
     std::string_view name() const override { return "fragile"; }
     std::string_view description() const override { return "reference that throws below dt = 0.02"; }
-    SimulatorSummary run(const Scenario& s, StateSink* sink) const override {
+    RunOutcome run(const Scenario& s, RunSink& sink) const override {
         if (s.dt < 0.02) throw std::runtime_error("too fine");
-        SimulatorSummary r = inner_.run(s, sink);
-        r.simulator = "fragile";
-        return r;
+        return inner_.run(s, sink);
     }
 
 private:

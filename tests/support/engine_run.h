@@ -3,8 +3,10 @@
 // its summary and every state.
 #pragma once
 
-#include "adapters/simulator.h"
-#include "compare/trajectory_csv.h"
+#include "metrics/summary.h"
+#include "registry/registry.h"
+#include "reports/trajectory_csv.h"
+#include "simulators/simulator.h"
 #include "tests/support/csv.h"
 
 #include <gtest/gtest.h>
@@ -36,7 +38,7 @@ inline SimulatorRun run_simulator(const std::string& name, const Scenario& s) {
     SimulatorRun run;
     {
         TrajectoryCsv csv(path, s.dim);
-        run.summary = sim->run(s, &csv);
+        run.summary = record_run(*sim, s, &csv);
         csv.commit();
     }
     const Csv csv = read_csv(path.string());

@@ -1,0 +1,35 @@
+// One scenario through every selected simulator, compared with the reference
+// and with exact: what `bouncecheck run` does per scenario.
+#pragma once
+
+#include "simulators/simulator.h"
+#include "reports/run_report.h"
+#include "scenarios/scenario.h"
+
+#include <filesystem>
+#include <vector>
+
+namespace bouncecheck {
+
+struct RunRequest {
+    std::vector<const Simulator*> simulators;  // the report's rows, in order
+    std::filesystem::path out_dir;             // trajectories go to out_dir/<scenario>/<simulator>.csv
+    bool trajectories = false;
+    ThresholdSet threshold_overrides;  // from the command line: over the scenario's, for every simulator
+    bool plots = false;  // record what report.html draws (decimated paths, distances over time)
+    // Run each engine (Simulator::third_party) in a child process, so that an
+    // engine that aborts costs only its own result.
+    bool isolate = false;
+};
+
+// Runs the baselines (reference and exact) first, then each selected
+// simulator with its stream compared as it runs. A simulator that throws is
+// recorded as failed; the others still run.
+ScenarioRun run_scenario(const Scenario& s, const RunRequest& request);
+
+// The limits that apply to `simulator`: the scenario's [thresholds], its
+// [thresholds.<simulator>], then the command line's. The reference is the
+// baseline: only a [thresholds.reference] table (or the command line) gates it.
+ThresholdSet limits_for(const Scenario& s, const std::string& simulator, const ThresholdSet& overrides);
+
+}  // namespace bouncecheck

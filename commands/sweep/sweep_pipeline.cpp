@@ -1,0 +1,302 @@
+#include "commands/sweep/sweep_pipeline.h"
+
+#include "platform/atomic_file.h"
+#include "reports/json_number.h"
+#include "commands/run/run_pipeline.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <exception>
+#include <limits>
+#include <string>
+#include <type_traits>
+#include <utility>
+
+namespace bouncecheck {
+
+std::vector<double> default_sweep_dts(double dt) {
+    const double floor = std::max(kSweepMinDt, std::ldexp(dt, -kSweepMaxHalvings));
+    std::vector<double> dts{dt};
+    for (double next = dt / 2; next >= floor && dts.size() < kSweepMaxDts; next /= 2) dts.push_back(next);
+    return dts;
+}
+
+namespace {
+
+// A whole string as a finite double, or nothing.
+std::optional<double> parse_number(std::string_view text) {
+    const std::string s(text);
+    if (s.empty() || std::isspace(static_cast<unsigned char>(s.front()))) return std::nullopt;
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(s.c_str(), &end);
+    if (end != s.c_str() + s.size() || errno == ERANGE || !std::isfinite(v)) return std::nullopt;
+    return v;
+}
+
+}  // namespace
+
+DtParse parse_dt_list(std::string_view text) {
+    DtParse out;
+    auto fail = [&](std::string message) {
+        out.dts.clear();
+        out.error = std::move(message);
+        return out;
+    };
+    if (text.empty()) return fail("empty; expected a list 0.03,0.015,... or FROM:TO:FACTOR");
+    if (text.find(':') != std::string_view::npos) {
+        std::vector<std::string_view> parts;
+        for (std::size_t start = 0;;) {
+            const auto colon = text.find(':', start);
+            parts.push_back(text.substr(start, colon == std::string_view::npos ? colon : colon - start));
+            if (colon == std::string_view::npos) break;
+            start = colon + 1;
+        }
+        if (parts.size() != 3) return fail(fmt::format("'{}': expected FROM:TO:FACTOR", text));
+        const auto from = parse_number(parts[0]), to = parse_number(parts[1]), factor = parse_number(parts[2]);
+        if (!from || !to || !factor) return fail(fmt::format("'{}': FROM, TO and FACTOR must be finite numbers", text));
+        if (*to <= 0) return fail(fmt::format("'{}': TO must be > 0", text));
+        if (*from < *to) return fail(fmt::format("'{}': FROM must be >= TO", text));
+        if (*factor <= 1) return fail(fmt::format("'{}': FACTOR must be > 1", text));
+        const double last = *to * (1 - 1e-9);  // slack for the rounding of repeated division
+        for (double dt = *from; dt >= last; dt /= *factor) {
+            if (out.dts.size() == kSweepMaxDts)
+                return fail(fmt::format("'{}': more than {} time steps", text, kSweepMaxDts));
+            out.dts.push_back(dt);
+        }
+        return out;
+    }
+    for (std::size_t start = 0;;) {
+        const auto comma = text.find(',', start);
+        const auto item = text.substr(start, comma == std::string_view::npos ? comma : comma - start);
+        const auto dt = parse_number(item);
+        if (!dt) return fail(fmt::format("'{}' is not a number", item));
+        if (*dt <= 0) return fail(fmt::format("'{}': a time step must be > 0", item));
+        if (out.dts.size() == kSweepMaxDts) return fail(fmt::format("more than {} time steps", kSweepMaxDts));
+        out.dts.push_back(*dt);
+        if (comma == std::string_view::npos) break;
+        start = comma + 1;
+    }
+    return out;
+}
+
+
+namespace {
+
+SweepRow failed_row(const std::string& engine, double dt, std::string reason) {
+    SweepRow row;
+    row.engine = engine;
+    row.dt = dt;
+    row.status = RunStatus::failed;
+    row.reason = std::move(reason);
+    return row;
+}
+
+SweepRow run_pair(const Scenario& base, const Simulator& sim, double dt, int repeat) {
+    SweepRow row;
+    row.engine = std::string(sim.name());
+    row.dt = dt;
+    Scenario s = base;
+    s.dt = dt;
+    try {
+        if (auto why = sim.cannot_run(s)) {
+            row.status = RunStatus::skipped;
+            row.reason = *why;
+            return row;
+        }
+        const ScenarioRun run = run_scenario(s, RunRequest{{&sim}, {}, false, {}});
+        const SimulatorSummary& result = run.results.front();
+        row.status = result.status;
+        row.reason = result.reason;
+        if (result.status != RunStatus::ok) {
+            if (result.steps > 0) row.steps = result.steps;
+            return row;
+        }
+        const Comparison& c = *run.comparisons.front();
+        row.error = c.vs_exact.trajectory.rms_before_rest;
+        row.bounce_error = c.vs_exact.bounce_height_rel_max;
+        row.steps = result.steps;
+
+        double best = std::numeric_limits<double>::infinity();
+        for (int i = 0; i < repeat; ++i) {
+            const UnrecordedRun timed = sim.run_unrecorded(s);
+            if (timed.status != RunStatus::ok) {
+                row.status = timed.status;
+                row.reason = fmt::format("timed run {}: {}", i + 1, timed.reason);
+                row.error.reset();
+                row.bounce_error.reset();
+                return row;
+            }
+            best = std::min(best, timed.run_seconds);
+        }
+        row.min_seconds = best;
+        if (result.steps > 0) row.ns_per_step = best * 1e9 / static_cast<double>(result.steps);
+        row.sec_per_sim_sec = best / s.duration;
+    } catch (const std::exception& e) {
+        return failed_row(row.engine, dt, fmt::format("exception: {}", e.what()));
+    } catch (...) {
+        return failed_row(row.engine, dt, "unknown exception");
+    }
+    return row;
+}
+
+}  // namespace
+
+SweepOrder fit_order(const std::vector<SweepRow>& rows, const std::string& engine) {
+    SweepOrder o;
+    o.engine = engine;
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (const SweepRow& r : rows) {
+        if (r.engine != engine || r.status != RunStatus::ok || !r.error || !(*r.error > 0)) continue;
+        const double x = std::log(r.dt), y = std::log(*r.error);
+        sx += x;
+        sy += y;
+        sxx += x * x;
+        sxy += x * y;
+        ++o.points;
+    }
+    if (o.points >= 2) {
+        const double n = o.points;
+        const double denominator = n * sxx - sx * sx;
+        if (denominator > 0) o.order = (n * sxy - sx * sy) / denominator;
+    }
+    return o;
+}
+
+SweepResult run_sweep(const Scenario& s, const SweepRequest& request) {
+    const std::size_t n_dt = request.dts.size();
+    const std::size_t total = request.simulators.size() * n_dt;
+    SweepResult result;
+    result.rows.resize(total);
+
+    const int repeat = std::max(1, request.repeat);
+    PairSchedule schedule;
+    schedule.jobs = request.jobs;
+    schedule.serial = [&](std::size_t e) { return request.simulators[e]->serial_reason().has_value(); };
+    schedule.cost = [&](std::size_t d) { return 1.0 / request.dts[d]; };  // steps: the smallest dt costs most
+    schedule.run = [&](std::size_t e, std::size_t d) {
+        result.rows[e * n_dt + d] = run_pair(s, *request.simulators[e], request.dts[d], repeat);
+    };
+    schedule.finished = [&](std::size_t e, std::size_t d, std::size_t done) {
+        if (request.on_progress) request.on_progress(result.rows[e * n_dt + d], done, total);
+    };
+    run_pairs_in_parallel(request.simulators.size(), n_dt, schedule);
+
+    for (const Simulator* sim : request.simulators) result.orders.push_back(fit_order(result.rows, std::string(sim->name())));
+    return result;
+}
+
+namespace {
+
+template <class T>
+std::string csv_number(const std::optional<T>& v) {
+    if (!v) return "";
+    if constexpr (std::is_integral_v<T>) return fmt::format("{}", *v);
+    else return fmt::format("{:.17g}", *v);
+}
+
+
+std::string table_number(const std::optional<double>& v, const char* spec) {
+    return v ? fmt::format(fmt::runtime(spec), *v) : std::string("-");
+}
+
+}  // namespace
+
+std::string sweep_csv(const SweepResult& r) {
+    std::string out = "engine,dt,status,error,bounce_error,ns_per_step,sec_per_sim_sec,steps\n";
+    for (const SweepRow& row : r.rows)
+        out += fmt::format("{},{:.17g},{},{},{},{},{},{}\n", row.engine, row.dt, to_string(row.status),
+                           csv_number(row.error), csv_number(row.bounce_error), csv_number(row.ns_per_step),
+                           csv_number(row.sec_per_sim_sec), csv_number(row.steps));
+    return out;
+}
+
+std::vector<bool> pareto_front(const std::vector<SweepRow>& rows) {
+    const auto usable = [](const SweepRow& r) {
+        return r.status == RunStatus::ok && r.error && *r.error > 0 && r.sec_per_sim_sec;
+    };
+    std::vector<bool> front(rows.size(), false);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        if (!usable(rows[i])) continue;
+        front[i] = std::none_of(rows.begin(), rows.end(), [&](const SweepRow& other) {
+            if (!usable(other)) return false;
+            const bool no_worse = *other.error <= *rows[i].error && *other.sec_per_sim_sec <= *rows[i].sec_per_sim_sec;
+            const bool better = *other.error < *rows[i].error || *other.sec_per_sim_sec < *rows[i].sec_per_sim_sec;
+            return no_worse && better;
+        });
+    }
+    return front;
+}
+
+nlohmann::json sweep_json(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters) {
+    nlohmann::json rows = nlohmann::json::array();
+    const std::vector<bool> front = pareto_front(r.rows);
+    for (std::size_t i = 0; i < r.rows.size(); ++i) {
+        const SweepRow& row = r.rows[i];
+        nlohmann::json j{{"engine", row.engine},
+                         {"dt", row.dt},
+                         {"status", to_string(row.status)},
+                         {"error", json_number(row.error)},
+                         {"bounce_error", json_number(row.bounce_error)},
+                         {"ns_per_step", json_number(row.ns_per_step)},
+                         {"sec_per_sim_sec", json_number(row.sec_per_sim_sec)},
+                         {"steps", json_number(row.steps)},
+                         {"min_seconds", json_number(row.min_seconds)},
+                         {"pareto", static_cast<bool>(front[i])}};
+        if (!row.reason.empty()) j["reason"] = row.reason;
+        rows.push_back(std::move(j));
+    }
+    nlohmann::json orders = nlohmann::json::array();
+    for (const SweepOrder& o : r.orders)
+        orders.push_back({{"engine", o.engine}, {"order", json_number(o.order)}, {"points", o.points}});
+    return {{"schema", kSweepSchema},
+            {"version", BOUNCECHECK_VERSION},
+            {"scenario", s.name},
+            {"dim", s.dim},
+            {"duration", s.duration},
+            {"error_metric", "trajectory RMS against exact before exact's rest (m)"},
+            {"bounce_error_metric", "largest relative bounce height difference against exact"},
+            {"parameters", parameters},
+            {"rows", std::move(rows)},
+            {"orders", std::move(orders)}};
+}
+
+std::string format_sweep(const Scenario& s, const SweepResult& r) {
+    std::string out = fmt::format(
+        "\n{}: work-precision sweep (error: trajectory RMS against exact before its rest; "
+        "timing: fastest of the timed runs)\n",
+        s.name);
+    out += fmt::format("  {:<10} {:>11} {:>11} {:>11} {:>10}  {}\n", "engine", "dt", "error (m)", "bounce err",
+                       "ns/step", "status");
+    for (const SweepOrder& o : r.orders) {
+        for (const SweepRow& row : r.rows) {
+            if (row.engine != o.engine) continue;
+            std::string status = to_string(row.status);
+            if (!row.reason.empty()) status += ": " + row.reason;
+            out += fmt::format("  {:<10} {:>11.6g} {:>11} {:>11} {:>10}  {}\n", row.engine, row.dt,
+                               table_number(row.error, "{:.4e}"), table_number(row.bounce_error, "{:.4e}"),
+                               table_number(row.ns_per_step, "{:.1f}"), status);
+        }
+        if (o.order)
+            out += fmt::format("  {:<10} observed order {:.3f} (least squares over {} points)\n", o.engine, *o.order,
+                               o.points);
+        else
+            out += fmt::format("  {:<10} observed order: not enough points ({} with error > 0)\n", o.engine, o.points);
+    }
+    return out;
+}
+
+void write_sweep(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters,
+                 const std::filesystem::path& out_dir) {
+    write_file_atomically(out_dir / "sweep.csv", sweep_csv(r));
+    const nlohmann::json json = sweep_json(s, r, parameters);
+    write_file_atomically(out_dir / "sweep.json", json.dump(2) + "\n");
+    write_file_atomically(out_dir / "sweep.html", sweep_html(json));
+}
+
+}  // namespace bouncecheck

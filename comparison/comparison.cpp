@@ -1,0 +1,291 @@
+#include "comparison/comparison.h"
+
+#include "reference/reference_model.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <variant>
+
+namespace bouncecheck {
+
+bool Comparison::passed() const {
+    for (const ThresholdCheck& t : thresholds)
+        if (!t.passed) return false;
+    return true;
+}
+
+// Running distance statistics against one baseline.
+struct TrajectoryComparer::Stats {
+    explicit Stats(std::optional<double> rest) { result.rest_cut = rest; }
+    void add(double t, double distance) {
+        sum_sq += distance * distance;
+        ++result.samples;
+        result.max = std::max(result.max, distance);
+        if (!result.rest_cut || t < *result.rest_cut) {
+            sum_sq_before += distance * distance;
+            ++samples_before;
+            result.max_before_rest = std::max(result.max_before_rest, distance);
+        }
+        if (!result.first_exceeds && distance > result.tolerance) result.first_exceeds = t;
+    }
+    TrajectoryDivergence finished() const {
+        TrajectoryDivergence out = result;
+        if (out.samples > 0) out.rms = std::sqrt(sum_sq / static_cast<double>(out.samples));
+        if (samples_before > 0) out.rms_before_rest = std::sqrt(sum_sq_before / static_cast<double>(samples_before));
+        return out;
+    }
+    TrajectoryDivergence result;
+    double sum_sq = 0, sum_sq_before = 0;
+    std::int64_t samples_before = 0;
+};
+
+// The reference in lockstep with the compared stream: its sample n is at the
+// same document-clock time as the stream's sample n. It is stepped until its
+// state repeats bit for bit (its rest) and the model holds one more period
+// (step_finding_period), which it replays from there on instead of stepping.
+struct TrajectoryComparer::LockstepReference {
+    template <int D>
+    struct Replaying {
+        explicit Replaying(const Scenario& s) : model(s) {}
+        Vec3 next_position() {
+            if (replaying) {
+                const Vec3& p = model.held_cycle()[phase].p;
+                if (++phase == model.held_cycle().size()) phase = 0;
+                return p;
+            }
+            if (model.running()) model.step_finding_period();
+            replaying = model.cycle_held();  // from the next sample on
+            return model.state().p;
+        }
+        // The position `ahead` samples after the next one, when replaying.
+        const Vec3& replayed(std::size_t ahead) const {
+            const std::vector<State>& cycle = model.held_cycle();
+            return cycle[(phase + ahead) % cycle.size()].p;
+        }
+        void skip(std::int64_t samples) {
+            const auto period = static_cast<std::int64_t>(model.held_cycle().size());
+            phase = static_cast<std::size_t>((static_cast<std::int64_t>(phase) + samples) % period);
+        }
+        ReferenceModel<D> model;
+        std::size_t phase = 0;
+        bool replaying = false;
+    };
+
+    using Model = std::variant<Replaying<2>, Replaying<3>>;
+    static Model make(const Scenario& s) {
+        if (s.dim == 2) return Replaying<2>(s);
+        return Replaying<3>(s);
+    }
+    explicit LockstepReference(const Scenario& s) : model(make(s)) {}
+    Vec3 next_position() {
+        if (!started) {
+            started = true;
+            return std::visit([](auto& m) { return m.model.state().p; }, model);
+        }
+        return std::visit([](auto& m) { return m.next_position(); }, model);
+    }
+    // Replaying its cycle from the next sample on: the cycle's length, else 0.
+    std::int64_t replay_period() const {
+        return std::visit(
+            [](auto& m) { return m.replaying ? static_cast<std::int64_t>(m.model.held_cycle().size()) : 0; }, model);
+    }
+    const Vec3& replayed(std::size_t ahead) const {
+        return std::visit([&](auto& m) -> const Vec3& { return m.replayed(ahead); }, model);
+    }
+    void skip(std::int64_t samples) {
+        std::visit([&](auto& m) { m.skip(samples); }, model);
+    }
+    Model model;
+    bool started = false;
+};
+
+TrajectoryComparer::TrajectoryComparer(const Scenario& s, const ExactModel& exact,
+                                       std::optional<double> reference_rest, std::optional<double> exact_rest)
+    : exact_(exact),
+      reference_(std::make_unique<LockstepReference>(s)),
+      vs_reference_(std::make_unique<Stats>(reference_rest)),
+      vs_exact_(std::make_unique<Stats>(exact_rest)) {}
+
+TrajectoryComparer::~TrajectoryComparer() = default;
+
+void TrajectoryComparer::write(const State& s) {
+    const double to_reference = (s.p - reference_->next_position()).norm();
+    const double to_exact = (s.p - exact_.state_at(s.t).p).norm();
+    vs_reference_->add(s.t, to_reference);
+    vs_exact_->add(s.t, to_exact);
+    if (reference_series_) {
+        reference_series_->add(s.t, to_reference);
+        exact_series_->add(s.t, to_exact);
+    }
+}
+
+void TrajectoryComparer::write_periodic(const PeriodicTail& tail) {
+    const std::int64_t period = tail.period();
+    PeriodicTail::Cursor at(tail);
+    // The common period of the tail and the reference's cycle, if both
+    // baselines repeat from the next sample on and it is not too long.
+    auto common_period = [&]() -> std::int64_t {
+        const std::int64_t reference_period = reference_->replay_period();
+        if (reference_period == 0 || !exact_.still_after(at.next_t())) return 0;
+        const std::int64_t common = std::lcm(period, reference_period);
+        return common <= kMaxReplayedPeriod ? common : 0;
+    };
+    std::int64_t common = 0;
+    while (at.left() > 0 && (common = common_period()) == 0) write(at.next());
+    if (at.left() == 0) return;
+    const Vec3 exact_p = exact_.state_at(at.next_t()).p;  // still: the same at every later sample
+    std::vector<double> to_reference(common), to_exact(common);
+    for (std::int64_t j = 0; j < common; ++j) {
+        const Vec3& p = tail.cycle[(at.phase() + j) % period].p;
+        to_reference[j] = (p - reference_->replayed(j)).norm();
+        to_exact[j] = (p - exact_p).norm();
+    }
+    reference_->skip(at.left());
+    for (std::int64_t j = 0; at.left() > 0;) {
+        const double t = at.pass();
+        vs_reference_->add(t, to_reference[j]);
+        vs_exact_->add(t, to_exact[j]);
+        if (reference_series_) {
+            reference_series_->add(t, to_reference[j]);
+            exact_series_->add(t, to_exact[j]);
+        }
+        if (++j == common) j = 0;
+    }
+}
+
+void TrajectoryComparer::record_series(std::int64_t stride) {
+    reference_series_.emplace(stride);
+    exact_series_.emplace(stride);
+}
+
+TrajectoryDivergence TrajectoryComparer::vs_reference() const { return vs_reference_->finished(); }
+TrajectoryDivergence TrajectoryComparer::vs_exact() const { return vs_exact_->finished(); }
+
+namespace {
+
+// Floor contacts in time order.
+std::vector<ContactEvent> floor_contacts(const SimulatorSummary& r, int vertical) {
+    std::vector<ContactEvent> out;
+    for (const ContactEvent& c : r.contact_events)
+        if (c.axis == vertical && c.side < 0) out.push_back(c);
+    return out;
+}
+
+// The first floor contact after time t.
+std::optional<double> contact_after(const std::vector<ContactEvent>& floor, double t) {
+    for (const ContactEvent& c : floor)
+        if (c.t > t) return c.t;
+    return std::nullopt;
+}
+
+}  // namespace
+
+Divergence compare_bounces(const SimulatorSummary& self, const SimulatorSummary& baseline, int bounce_count,
+                           const Scenario& s) {
+    Divergence d;
+    d.baseline = baseline.simulator;
+    d.apexes_self = self.apex_count;
+    d.apexes_baseline = baseline.apex_count;
+    const int vertical = s.vertical_axis();
+    const auto self_floor = floor_contacts(self, vertical), base_floor = floor_contacts(baseline, vertical);
+    const std::size_t available = std::min(self.apexes.size(), baseline.apexes.size());
+    const std::size_t n = std::min(available, static_cast<std::size_t>(std::max(bounce_count, 0)));
+    for (std::size_t i = 0; i < n; ++i) {
+        BounceDiff b;
+        b.index = static_cast<int>(i);
+        b.height = self.apexes[i].height;
+        b.baseline_height = baseline.apexes[i].height;
+        b.abs_diff = std::abs(b.height - b.baseline_height);
+        // Relative to the bounce's height above the floor, where the ball's centre rests.
+        const double above_floor = std::abs(b.baseline_height - s.radius);
+        b.rel_diff = above_floor > 0 ? b.abs_diff / above_floor : 0.0;
+        b.contact_t = contact_after(self_floor, self.apexes[i].t);
+        b.baseline_contact_t = contact_after(base_floor, baseline.apexes[i].t);
+        d.bounce_height_rel_max = std::max(d.bounce_height_rel_max, b.rel_diff);
+        d.bounces.push_back(b);
+    }
+    if (n < static_cast<std::size_t>(bounce_count)) {
+        d.note = fmt::format("compared {} of the {} bounces asked: {} has {} apexes, {} has {}", n, bounce_count,
+                             self.simulator, self.apexes.size(), baseline.simulator, baseline.apexes.size());
+    } else if (self.apex_count != baseline.apex_count) {
+        d.note = fmt::format("compared the first {} bounces; the runs have {} and {} apexes", n, self.apex_count,
+                             baseline.apex_count);
+    }
+    return d;
+}
+
+std::vector<ContactEvent> damping_contacts(const SimulatorSummary& self, const Scenario& s) {
+    // Measured from samples a step apart, a contact's coefficients carry one
+    // step of gravity, |g| dt, against its incoming speed: contacts slower than
+    // kMinSpeedInSteps |g| dt (micro-bounces) would measure gravity, not damping.
+    const double min_speed = kMinSpeedInSteps * s.gravity.norm() * s.dt;
+    std::vector<ContactEvent> out;
+    for (const ContactEvent& c : self.contact_events) {
+        if (self.rest_time && c.t >= *self.rest_time) break;
+        if (c.normal_speed_in >= min_speed) out.push_back(c);
+    }
+    return out;
+}
+
+DampingCheck check_damping(const SimulatorSummary& self, const Scenario& s, const ThresholdSet& limits) {
+    DampingCheck d;
+    d.normal_tolerance = limits.restitution_abs.value_or(kDefaultDampingTolerance);
+    d.tangential_tolerance = limits.tangential_abs.value_or(kDefaultDampingTolerance);
+    double normal_sum = 0, tangential_sum = 0, normal_dev = -1, tangential_dev = -1;
+    for (const ContactEvent& c : damping_contacts(self, s)) {
+        ++d.contacts;
+        normal_sum += c.normal_coefficient;
+        if (std::abs(c.normal_coefficient - s.alpha) > normal_dev) {
+            normal_dev = std::abs(c.normal_coefficient - s.alpha);
+            d.normal_worst = c.normal_coefficient;
+        }
+        if (std::isnan(c.tangential_retention)) continue;
+        ++d.tangential_contacts;
+        tangential_sum += c.tangential_retention;
+        if (std::abs(c.tangential_retention - s.beta) > tangential_dev) {
+            tangential_dev = std::abs(c.tangential_retention - s.beta);
+            d.tangential_worst = c.tangential_retention;
+        }
+    }
+    if (d.contacts > 0) d.normal_mean = normal_sum / d.contacts;
+    if (d.tangential_contacts > 0) d.tangential_mean = tangential_sum / d.tangential_contacts;
+    std::vector<std::string> differs;
+    if (d.contacts == 0) differs.push_back("no contact to measure");
+    if (normal_dev > d.normal_tolerance)
+        differs.push_back(fmt::format("normal coefficient up to {:.4f} against alpha {:g} (tolerance {:g})",
+                                      d.normal_worst, s.alpha, d.normal_tolerance));
+    if (tangential_dev > d.tangential_tolerance)
+        differs.push_back(fmt::format("tangential retention up to {:.4f} against beta {:g} (tolerance {:g})",
+                                      d.tangential_worst, s.beta, d.tangential_tolerance));
+    d.reproduces = differs.empty();
+    d.verdict = d.reproduces ? "reproduces the damping law" : fmt::format("{}", fmt::join(differs, "; "));
+    return d;
+}
+
+std::vector<ThresholdCheck> check_thresholds(const Comparison& c, const ThresholdSet& limits, const Scenario& s) {
+    std::vector<ThresholdCheck> out;
+    auto check = [&](const char* metric, const std::optional<double>& limit, double measured) {
+        if (limit) out.push_back({metric, measured, *limit, measured <= *limit});
+    };
+    const Divergence& ref = c.vs_reference;
+    check("bounce_height_rel", limits.bounce_height_rel, ref.bounce_height_rel_max);
+    if (limits.bounce_count && static_cast<int>(ref.bounces.size()) < *limits.bounce_count) {
+        // Fewer bounces than asked: the comparison itself fails, it is not skipped.
+        out.push_back({"bounce_count", static_cast<double>(ref.bounces.size()),
+                       static_cast<double>(*limits.bounce_count), false});
+    }
+    check("trajectory_rms", limits.trajectory_rms, ref.trajectory.rms);
+    check("trajectory_max", limits.trajectory_max, ref.trajectory.max);
+    // With nothing measured, a damping limit fails rather than passing unseen.
+    const double none = std::numeric_limits<double>::infinity();
+    check("restitution_abs", limits.restitution_abs,
+          c.damping.contacts > 0 ? std::abs(c.damping.normal_worst - s.alpha) : none);
+    check("tangential_abs", limits.tangential_abs,
+          c.damping.tangential_contacts > 0 ? std::abs(c.damping.tangential_worst - s.beta) : none);
+    return out;
+}
+
+}  // namespace bouncecheck

@@ -1,0 +1,125 @@
+// How far a simulator is from the reference (divergence) and from exact
+// (error): bounce heights, trajectory, damping semantics, and the CI
+// thresholds of the scenario.
+//
+// Every simulator of a run samples on the document's clock (the scenario's
+// dt), so sample n of one is at the time of sample n of any other: the
+// trajectory comparison is sample by sample, with no interpolation.
+#pragma once
+
+#include "reports/plot_data.h"
+#include "metrics/summary.h"
+#include "exact/exact_model.h"
+#include "scenarios/scenario.h"
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace bouncecheck {
+
+// Defaults where the scenario sets no threshold.
+inline constexpr int kDefaultBounceCount = 5;
+inline constexpr double kDefaultDampingTolerance = 0.02;  // for the damping verdict
+inline constexpr double kDivergenceTolerance = 0.01;      // m: "first exceeds" time of the trajectory
+inline constexpr double kMinSpeedInSteps = 30;  // damping: contacts slower than this x |g| dt are not measured
+
+// One bounce (apex index) against the baseline's.
+struct BounceDiff {
+    int index = 0;
+    double height = 0, baseline_height = 0;
+    double abs_diff = 0, rel_diff = 0;  // rel: abs_diff / baseline height above the floor
+    std::optional<double> contact_t, baseline_contact_t;  // the floor contact that ends this bounce
+};
+
+struct TrajectoryDivergence {
+    std::int64_t samples = 0;
+    double rms = 0, max = 0;                          // over the whole run
+    std::optional<double> rest_cut;                   // the baseline's rest time, if it rests
+    double rms_before_rest = 0, max_before_rest = 0;  // over [0, rest_cut) (the whole run without one)
+    double tolerance = kDivergenceTolerance;
+    std::optional<double> first_exceeds;              // first time the distance exceeded `tolerance`
+};
+
+// A simulator against one baseline (reference or exact).
+struct Divergence {
+    std::string baseline;
+    std::vector<BounceDiff> bounces;  // min(bounce_count, both sides' apex counts)
+    double bounce_height_rel_max = 0;
+    std::int64_t apexes_self = 0, apexes_baseline = 0;
+    std::string note;  // how sequences of different lengths were handled
+    TrajectoryDivergence trajectory;
+};
+
+// Measured damping against the law's alpha and beta, over the contacts
+// before the simulator's rest that hit the wall faster than 30 |g| dt
+// (slower ones measure one step of gravity as much as the damping).
+struct DampingCheck {
+    int contacts = 0, tangential_contacts = 0;
+    double normal_mean = 0, normal_worst = 0;  // measured coefficient; worst = farthest from alpha
+    double tangential_mean = 0, tangential_worst = 0;
+    double normal_tolerance = kDefaultDampingTolerance, tangential_tolerance = kDefaultDampingTolerance;
+    bool reproduces = true;
+    std::string verdict;  // "reproduces the damping law" or what differs
+};
+
+struct ThresholdCheck {
+    std::string metric;  // a [thresholds] key
+    double measured = 0, limit = 0;
+    bool passed = true;
+};
+
+struct Comparison {
+    Divergence vs_reference, vs_exact;
+    DampingCheck damping;
+    std::vector<ThresholdCheck> thresholds;  // empty when none is set for this simulator
+    bool passed() const;
+};
+
+// Compares a simulator's state stream, as it streams, with the reference
+// (stepped alongside) and with exact. Pass it as the run's StateSink.
+class TrajectoryComparer final : public StateSink {
+public:
+    TrajectoryComparer(const Scenario& s, const ExactModel& exact, std::optional<double> reference_rest,
+                       std::optional<double> exact_rest);
+    ~TrajectoryComparer() override;
+    void write(const State& s) override;
+    // State by state until both baselines repeat as well (the reference at
+    // its rest cycle, exact still); from there the distances repeat with the
+    // cycles' common period and are added up without evaluating anything.
+    // Same results as writing each state, bit for bit.
+    void write_periodic(const PeriodicTail& tail) override;
+    TrajectoryDivergence vs_reference() const;
+    TrajectoryDivergence vs_exact() const;
+    // Also keeps both distances over time, for the HTML report: the largest of
+    // every `stride` samples (see WindowMaxSeries).
+    void record_series(std::int64_t stride);
+    // Empty unless record_series was called.
+    const std::optional<WindowMaxSeries>& reference_series() const { return reference_series_; }
+    const std::optional<WindowMaxSeries>& exact_series() const { return exact_series_; }
+
+private:
+    struct Stats;
+    struct LockstepReference;
+    const ExactModel& exact_;
+    std::unique_ptr<LockstepReference> reference_;
+    std::unique_ptr<Stats> vs_reference_, vs_exact_;
+    std::optional<WindowMaxSeries> reference_series_, exact_series_;
+};
+
+// The contacts the damping check measures: before the simulator's rest, and
+// faster than kMinSpeedInSteps |g| dt.
+std::vector<ContactEvent> damping_contacts(const SimulatorSummary& self, const Scenario& s);
+
+// Bounce-by-bounce comparison of two summaries' apexes and floor contacts.
+Divergence compare_bounces(const SimulatorSummary& self, const SimulatorSummary& baseline, int bounce_count,
+                           const Scenario& s);
+
+DampingCheck check_damping(const SimulatorSummary& self, const Scenario& s, const ThresholdSet& limits);
+
+// The scenario's thresholds for this simulator, evaluated on its comparison.
+std::vector<ThresholdCheck> check_thresholds(const Comparison& c, const ThresholdSet& limits, const Scenario& s);
+
+}  // namespace bouncecheck

@@ -1,0 +1,200 @@
+// The continuous-time solution of the document's damping law: the ground truth
+// every error figure is measured against.
+//
+// The law. A ball (centre p, radius r) moves in the box [0, size_i] on each used
+// axis under constant gravity g. Between contacts p follows the exact parabola
+// p0 + v0 t + g t^2 / 2. A contact happens when the ball touches a wall
+// (p_i = r or p_i = size_i - r) while moving into it; then the normal velocity
+// component is multiplied by -alpha and every other component by beta.
+//
+// Choices where the law leaves room (all bounded by round-off or by the stated
+// thresholds):
+// - Corners/edges: walls reached at the same instant (contact times equal to a
+//   relative 1e-11) are applied one after another in axis order, lower wall
+//   before upper, each scaling the velocity left by the previous one; all of them
+//   apply, even if beta = 0 stopped the motion towards a later one. The final
+//   velocity does not depend on the order (the scalings commute); only the
+//   v_before/v_after of the individual WallContact entries do.
+// - Zeno with gravity perpendicular to the wall (the only nonzero gravity
+//   component is along its normal and presses into it), 0 < alpha < 1,
+//   0 <= beta <= 1: once the closed-form tangential travel of the infinite tail
+//   stays inside the room, the tail is summed exactly (state_at evaluates any
+//   hop of it in O(1)); the ball then rests on the wall with tangential velocity
+//   0 if beta < 1 (infinitely many contacts scale it by beta) or unchanged if
+//   beta = 1, and that axis is locked. Until the tail fits, bounces are resolved
+//   one by one.
+// - Zeno with a tangential gravity component (or a tail that never fits):
+//   bounces are resolved one by one until the remaining accumulation time
+//   R = (2u/|g_n|) / (1 - alpha) is below 1e-12 s; then the axis is locked on the
+//   wall (normal velocity 0) and, if beta < 1, the other velocity components are
+//   set to 0, the limit of the infinitely many remaining contacts. Doing that R
+//   early misplaces the ball by at most the hop height g_n R^2 / 8 plus
+//   |v| R, and offsets a later tangential velocity by at most |g| R: all
+//   below 1e-11 in SI units for |v|, |g| < 10. The hop-height criterion
+//   (u^2 / (2|g_n|) < 1e-15 x room size) is used only for alpha = 1, where R is
+//   unbounded. The solve keeps coordinates relative to the nearer wall, so
+//   hops keep shrinking down to R < 1e-12 s even in a corner (no round-off
+//   floor). The other axes keep moving under their gravity; a locked axis stays
+//   locked (gravity is constant).
+// - alpha = 0: the first impact on a wall that gravity presses into stops and
+//   locks that axis. A ball at rest on such a wall from the start is locked too.
+// - alpha = 1: no Zeno on a single wall; every contact is resolved (bounded by
+//   the event cap). A corner can still shrink the hops through beta.
+//
+// Time range: contacts(), apexes() and rest_time() describe [0, duration].
+// state_at() is solved up to horizon() = duration + 2 dt, so the document
+// clock's last sample (which can overshoot duration by up to dt) is exact too.
+#pragma once
+
+#include "simulators/state.h"
+#include "simulators/document_clock.h"
+#include "scenarios/scenario.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace bouncecheck {
+
+
+class ExactModel {
+public:
+    // Bounds the memory of pathological scenarios (alpha very close to 1 with a
+    // tangential gravity component): ~190 bytes per event.
+    static constexpr std::int64_t kDefaultMaxEvents = 1'000'000;
+
+    // Solves the whole run [0, horizon()] at construction. The scenario is
+    // expected to be valid (see scenarios/loader.h); the start position is
+    // clamped into the room.
+    explicit ExactModel(const Scenario& s, std::int64_t max_events = kDefaultMaxEvents);
+
+    // Exact state at t, O(log segments). At a contact instant it returns the
+    // velocity after the contact. The position is always inside [r, size - r].
+    State state_at(double t) const;
+
+    // Every resolved contact in time order; a corner gives one per wall, with
+    // the same t. The closed-form Zeno tail is not expanded (infinitely many
+    // contacts): see summed_tail_contacts().
+    const std::vector<WallContact>& contacts() const { return contacts_; }
+    // The apex (Apex, simulators/state.h: the centre's vertical coordinate, not
+    // the height above the floor) of every resolved flight: the turning point
+    // of the vertical coordinate, a top (or a bottom if gravity points up).
+    // Includes the initial one if the ball starts rising or vertically at rest
+    // in flight; the summed Zeno tail's hops are not listed.
+    const std::vector<Apex>& apexes() const { return apexes_; }
+    // When the vertical axis came to rest on its floor (Zeno accumulation time,
+    // threshold lock or alpha = 0 impact), if within duration.
+    std::optional<double> rest_time() const { return rest_time_; }
+    // -1: an infinite tail of contacts was summed in closed form (at most one per
+    // run: it leaves no gravity on free axes). 0: none was.
+    std::int64_t summed_tail_contacts() const { return tail_ ? -1 : 0; }
+    // True if the run stopped at max_events contact instants before the horizon;
+    // the solution after the last segment start is then unreliable.
+    bool event_cap_hit() const { return event_cap_hit_; }
+    double horizon() const { return horizon_; }
+
+    // Calls sink(const State&) at the document clock's times (t_0 = 0,
+    // t_{n+1} = t_n + dt while |t_n| < |duration|): document_step_count + 1
+    // rows. A monotone cursor makes the whole sequence O(rows + segments).
+    template <class Sink>
+    void sample_document_clock(Sink&& sink) const {
+        std::size_t segment = 0;
+        for (DocumentClock clock(dt_, duration_);; clock.advance()) {
+            const double t = clock.t();
+            while (segment + 1 < segments_.size() && segments_[segment + 1].t0 <= t) ++segment;
+            sink(evaluate(segment, t));
+            if (!clock.running()) break;
+        }
+    }
+
+    // Whether the state is the same at t and at every later time.
+    bool still_after(double t) const {
+        return t >= segments_.back().t0 && still_from(segments_.size() - 1, t);
+    }
+
+    // As sample_document_clock, but stops after the first sample from which
+    // the state stays the same to the end of the run (the ball at rest, not
+    // moving along the wall either): returns the clock at that sample, so
+    // the caller can hand the rest over (PeriodicTail); nothing if it sampled
+    // to the end.
+    template <class Sink>
+    std::optional<DocumentClock> sample_document_clock_until_still(Sink&& sink) const {
+        std::size_t segment = 0;
+        for (DocumentClock clock(dt_, duration_);; clock.advance()) {
+            const double t = clock.t();
+            while (segment + 1 < segments_.size() && segments_[segment + 1].t0 <= t) ++segment;
+            sink(evaluate(segment, t));
+            if (!clock.running()) return std::nullopt;
+            if (segment + 1 == segments_.size() && still_from(segment, t)) return clock;
+        }
+    }
+
+private:
+    // Uniform motion law from t0 until the next segment: the parabola with
+    // acceleration `accel`, which is gravity on free axes and 0 on locked ones
+    // (their velocity is 0 too), unless zeno_tail says it is the summed tail.
+    struct Segment {
+        double t0;
+        Vec3 p0, v0, accel;
+        unsigned locked;  // bit i: axis i rests on a wall
+        bool zeno_tail;
+    };
+    // The infinite hop sequence after a bounce on `axis` with gravity purely
+    // along its normal. Hop k starts at flight0 (1 - alpha^k) / (1 - alpha) with
+    // normal speed u alpha^k and tangential velocity v0 beta^k.
+    struct ZenoTail {
+        double t0;
+        Vec3 p0, v0;  // just after the bounce that starts the tail
+        int axis, side;
+        double u, g, flight0, length;
+        Vec3 rest_p, rest_v;  // at t0 + length
+    };
+    // The evolving state of the solve. Each coordinate is kept as a distance
+    // from the nearer wall, not as an absolute coordinate: hops of a ball
+    // Zeno-bouncing in a corner then keep full relative precision instead of
+    // being quantized to ulp(size), which round-off would keep alive forever.
+    struct Motion {
+        double t;
+        double offset[3];  // distance of the centre from its anchor wall, in [0, span / 2]
+        int anchor[3];     // -1 lower wall, +1 upper wall
+        Vec3 v, accel;
+        unsigned locked;
+    };
+
+    void solve(const Scenario& s, std::int64_t max_events);
+    void push_segment(const Motion& m, bool zeno_tail = false);
+    void record_apex(const Motion& m, double t_end);
+    void apply_contacts(Motion& m, const bool (&hit)[3][2]);
+    void settle_pressed_walls(Motion& m, const bool (&hit)[3][2]);
+    bool sum_tail(Motion& m, int axis, int side);
+    void lock_axis(Motion& m, int axis, int side, bool zero_other_velocities);
+    void lock_resting_axes(Motion& m);
+    double wall(int axis, int side) const { return side < 0 ? lo_[axis] : hi_[axis]; }
+    double distance_to_wall(const Motion& m, int axis, int side) const;
+    void place(Motion& m, int axis, int anchor, double offset) const;
+    void move(Motion& m, int axis, double delta) const;
+    Vec3 position(const Motion& m) const;
+    State evaluate(std::size_t segment, double t) const;
+    // Whether evaluate(segment, t') gives the same position and velocity for
+    // every t' >= t.
+    bool still_from(std::size_t segment, double t) const;
+    State tail_state(double t) const;
+    void clamp_into_room(Vec3& p) const;
+
+    int dim_;
+    double alpha_, beta_;
+    double dt_, duration_;
+    double end_;      // |duration|
+    double horizon_;  // end_ + 2 |dt|
+    double lo_[3], hi_[3], size_[3];  // centre range per axis, room size
+
+    std::vector<Segment> segments_;
+    std::vector<WallContact> contacts_;
+    std::vector<Apex> apexes_;
+    std::optional<ZenoTail> tail_;
+    std::optional<double> rest_time_;
+    bool event_cap_hit_ = false;
+};
+
+}  // namespace bouncecheck

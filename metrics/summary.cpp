@@ -1,0 +1,221 @@
+#include "metrics/summary.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <limits>
+
+namespace bouncecheck {
+
+ContactEvent measure_contact(double t, int axis, int side, const Vec3& v_before, const Vec3& v_after, int dim,
+                             unsigned normal_axes) {
+    ContactEvent e{t, axis, side, 0.0, std::nan(""), std::abs(v_before[axis])};
+    const double normal_in = e.normal_speed_in;
+    e.normal_coefficient = normal_in > 0 ? std::abs(v_after[axis]) / normal_in : 0.0;
+    double tangential_in = 0, tangential_out = 0;
+    for (int i = 0; i < dim; ++i) {
+        if (i == axis || ((normal_axes >> i) & 1u)) continue;
+        tangential_in += v_before[i] * v_before[i];
+        tangential_out += v_after[i] * v_after[i];
+    }
+    if (std::sqrt(tangential_in) > 1e-9) e.tangential_retention = std::sqrt(tangential_out / tangential_in);
+    return e;
+}
+
+StreamRecorder::StreamRecorder(const Scenario& s, StateSink* sink)
+    : sink_(sink), dim_(s.dim), vertical_(s.vertical_axis()), walls_(s), gravity_(s.gravity) {
+    // The ball has escaped when its centre is beyond a wall's plane: it has
+    // sunk into the wall by more than its radius.
+    for (int i = 0; i < 3; ++i) {
+        low_limit_[i] = i < s.dim ? 0.0 : -std::numeric_limits<double>::infinity();
+        high_limit_[i] = i < s.dim ? s.room[i] : std::numeric_limits<double>::infinity();
+    }
+    // A stepped simulator never rests exactly: the reference micro-bounces
+    // forever, fed by one step of gravity per bounce (its steady cycle reaches
+    // about (1+alpha)/(1-alpha) |g| dt: 6.8 |g| dt measured for alpha 0.8), and
+    // engines jitter at a few |g| dt. Rest is declared when, until the end of
+    // the run, the vertical speed stays below k |g| dt and the height above the
+    // floor below k^2/2 |g| dt^2 (+1e-6 r), k = (1+alpha)/(1-alpha) within [2, 20].
+    const double g = std::abs(s.gravity[vertical_]);
+    const double k = s.alpha < 1 ? std::clamp((1 + s.alpha) / (1 - s.alpha), 2.0, 20.0) : 20.0;
+    floor_ = s.radius;
+    rest_speed_ = k * g * s.dt;
+    rest_height_ = 0.5 * k * k * g * s.dt * s.dt + 1e-6 * s.radius;
+    dt_ = s.dt;
+}
+
+void StreamRecorder::diagnose(const State& s) {
+    if (!failure_.empty()) return;
+    for (int i = 0; i < dim_; ++i) {
+        if (!std::isfinite(s.p[i]) || !std::isfinite(s.v[i])) {
+            failure_ = fmt::format("non-finite state at t = {:.6g}", s.t);
+            return;
+        }
+        if (s.p[i] < low_limit_[i] || s.p[i] > high_limit_[i]) {
+            failure_ = fmt::format("ball left the room at t = {:.6g} (axis {}, centre {:.6g})", s.t, i, s.p[i]);
+            return;
+        }
+    }
+}
+
+void StreamRecorder::count_contacts(const State& s, ContactMask contact) {
+    for (int i = 0; i < dim_; ++i) {
+        for (const int side : {-1, +1}) {
+            if (!(((side < 0 ? contact.lower : contact.upper) >> i) & 1u)) continue;
+            ++contacts_;
+            if (contact_events_.size() < kKeptContacts && states_ > 0) {
+                // The velocity that meets the wall: a step of gravity after
+                // the last sample, as in the document's step (and Box2D's).
+                const Vec3 incoming = last_.v + gravity_ * (s.t - last_.t);
+                contact_events_.push_back(
+                    measure_contact(s.t, i, side, incoming, s.v, dim_, contact.lower | contact.upper));
+            }
+        }
+    }
+    if ((contact.lower >> vertical_) & 1u) {
+        ++floor_contacts_;
+        // The interval since the previous floor contact closes: its highest
+        // sample is an apex unless the ball never rose above the floor sample.
+        if (apex_open_ && apex_.t < s.t) push_apex();
+        apex_open_ = false;
+    }
+}
+
+// The apex sample refined by the parabola through it and its two neighbours
+// (samples are dt apart): the vertex, if it lies within a step of the sample.
+void StreamRecorder::push_apex() {
+    Apex a = apex_;
+    const double curvature = apex_before_ - 2 * apex_.height + apex_after_;  // NaN without both neighbours
+    if (curvature < 0) {
+        const double offset = 0.5 * dt_ * (apex_before_ - apex_after_) / curvature;
+        if (std::abs(offset) <= dt_) {
+            a.t += offset;
+            a.height -= (apex_after_ - apex_before_) * (apex_after_ - apex_before_) / (8 * curvature);
+        }
+    }
+    if (apexes_.size() < kKeptApexes) apexes_.push_back(a);
+    ++apex_count_;
+}
+
+WallLimits::WallLimits(const Scenario& s) {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < 3; ++i) {
+        low[i] = i < s.dim ? s.radius : -inf;
+        high[i] = i < s.dim ? s.room[i] - s.radius : inf;
+    }
+}
+
+void StreamRecorder::on_periodic_tail(const PeriodicTail& tail) {
+    if (tail.count <= 0 || tail.cycle.empty()) return;
+    if (sink_) sink_->write_periodic(tail);
+    filled_from_ = tail.t_before + tail.dt;
+    fill_period_ = tail.period();
+    fill_steps_ = tail.count;
+    // Replays tail states one by one (the sink has had them already).
+    StateSink* const sink = sink_;
+    sink_ = nullptr;
+    const std::int64_t period = tail.period();
+    PeriodicTail::Cursor at(tail);
+    auto replay = [&](std::int64_t states) {
+        for (std::int64_t i = 0; i < states; ++i) {
+            ContactMask contact;
+            const State s = at.next(&contact);
+            record<3>(s, contact);
+        }
+    };
+    // What one whole cycle adds to the counts. The recorder has seen the
+    // cycle before the tail, so from the tail's start it repeats too.
+    const std::int64_t contacts_before = contacts_, floor_before = floor_contacts_, apexes_before = apex_count_;
+    replay(std::min(period, at.left()));
+    const std::int64_t cycle_contacts = contacts_ - contacts_before;
+    const std::int64_t cycle_floor = floor_contacts_ - floor_before;
+    const std::int64_t cycle_apexes = apex_count_ - apexes_before;
+    // Whole cycles one by one while they still add kept contacts or apexes.
+    auto lists_grow = [&] {
+        return (cycle_contacts > 0 && contact_events_.size() < kKeptContacts) ||
+               (cycle_apexes > 0 && apexes_.size() < kKeptApexes);
+    };
+    while (at.left() >= 2 * period && lists_grow()) replay(period);
+    // Whole cycles counted, not replayed, keeping one whole cycle and the
+    // remainder to replay, so that what depends on the times of the last
+    // states (rest start, the open apex, the final state) is as stepped.
+    const std::int64_t skipped = at.left() / period - 1;
+    if (skipped > 0) {
+        for (std::int64_t i = 0; i < skipped * period; ++i) at.pass();
+        states_ += skipped * period;
+        contacts_ += skipped * cycle_contacts;
+        floor_contacts_ += skipped * cycle_floor;
+        apex_count_ += skipped * cycle_apexes;
+    }
+    replay(at.left());
+    sink_ = sink;
+}
+
+void StreamRecorder::finish(SimulatorSummary& out) {
+    // A last interval whose highest sample is not its final one did turn over.
+    if (apex_open_ && apex_.t < last_.t) push_apex();
+    out.steps = states_ > 0 ? states_ - 1 : 0;
+    out.contacts = contacts_;
+    out.floor_contacts = floor_contacts_;
+    out.apexes = apexes_;
+    out.contact_events = contact_events_;
+    out.max_penetration = max_penetration_;
+    out.energy_max_rise = energy_max_rise_;
+    out.apex_count = apex_count_;
+    out.final_state = last_;
+    out.filled_from = filled_from_;
+    out.fill_period = fill_period_;
+    out.fill_steps = fill_steps_;
+    // A rest must last: ten steps at least, so that the last samples of a
+    // bouncing run do not count.
+    if (rest_since_ && last_.t - *rest_since_ >= kRestSteps * dt_) out.rest_time = rest_since_;
+    if (!failure_.empty()) {
+        out.status = RunStatus::failed;
+        out.reason = failure_;
+    }
+    if (resolved_) {
+        out.contacts = resolved_->contacts;
+        out.floor_contacts = resolved_->floor_contacts;
+        out.contact_events = resolved_->contact_events;
+        out.contacts_unbounded = resolved_->contacts_unbounded;
+        out.apexes = resolved_->apexes;
+        out.apex_count = resolved_->apex_count;
+        out.rest_time = resolved_->rest_time;
+    }
+}
+
+void StreamRecorder::on_resolved_events(const ResolvedEvents& events) {
+    Resolved r;
+    r.contacts = static_cast<std::int64_t>(events.contacts.size());
+    for (const WallContact& c : events.contacts) {
+        if (c.axis == vertical_ && c.side < 0) ++r.floor_contacts;
+        if (r.contact_events.size() < kKeptContacts)
+            r.contact_events.push_back(measure_contact(c.t, c.axis, c.side, c.v_before, c.v_after, dim_));
+    }
+    r.contacts_unbounded = events.contacts_unbounded;
+    for (const Apex& a : events.apexes) {
+        if (r.apexes.size() == kKeptApexes) break;
+        r.apexes.push_back(a);
+    }
+    r.apex_count = static_cast<std::int64_t>(events.apexes.size());
+    r.rest_time = events.rest_time;
+    resolved_ = std::move(r);
+}
+
+SimulatorSummary record_run(const Simulator& sim, const Scenario& s, StateSink* sink) {
+    SimulatorSummary out;
+    out.simulator = std::string(sim.name());
+    StreamRecorder recorder(s, sink);
+    RunOutcome outcome = sim.run(s, recorder);
+    recorder.finish(out);
+    out.settings = std::move(outcome.settings);
+    out.run_seconds = outcome.run_seconds;
+    if (outcome.status != RunStatus::ok) {
+        out.status = outcome.status;
+        out.reason = std::move(outcome.reason);
+    }
+    return out;
+}
+
+}  // namespace bouncecheck

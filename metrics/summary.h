@@ -1,0 +1,221 @@
+// What one simulator's run of one scenario produced, and the streaming
+// recorder that computes it from the simulator's states as they are made.
+#pragma once
+
+#include "scenarios/scenario.h"
+#include "simulators/simulator.h"
+#include "simulators/state.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace bouncecheck {
+
+// One wall contact with its measured damping (see measure_contact).
+struct ContactEvent {
+    double t = 0;
+    int axis = 0;
+    int side = -1;                    // -1 lower wall, +1 upper wall
+    double normal_coefficient = 0;    // |v_n after| / |v_n before|: alpha in the model
+    double tangential_retention = 0;  // |v_t after| / |v_t before|: beta in the model; NaN if undefined
+    double normal_speed_in = 0;       // |v_n before|
+};
+
+struct SimulatorSummary {
+    std::string simulator;
+    RunStatus status = RunStatus::ok;
+    std::string reason;  // why it was skipped or failed
+
+    std::int64_t steps = 0;           // steps taken (exact: samples after the initial one)
+    std::int64_t contacts = 0;        // wall contacts; a corner counts one per wall
+    std::int64_t floor_contacts = 0;
+    bool contacts_unbounded = false;  // exact: infinitely many Zeno contacts summed in closed form
+    std::vector<Apex> apexes;         // the first kKeptApexes apexes
+    std::int64_t apex_count = 0;
+    // The first kKeptContacts contacts with their measured damping.
+    std::vector<ContactEvent> contact_events;
+    double max_penetration = 0;    // deepest the ball's surface went beyond a wall (m)
+    double energy_max_rise = 0;    // largest rise of 0.5|v|^2 - g.p above its initial value (J/kg)
+    // Vertical motion at rest on the floor from this time. exact: the Zeno
+    // accumulation time. Stepped simulators: from the stream (see StreamRecorder).
+    std::optional<double> rest_time;
+    State final_state;
+    std::vector<Setting> settings;  // as the simulator used them (RunOutcome)
+    // From this time on the run's states were periodic and handed over, not
+    // stepped (PeriodicTail): the period in steps (1: a state at rest) and
+    // how many of the run's steps that was.
+    std::optional<double> filled_from;
+    std::int64_t fill_period = 0, fill_steps = 0;
+    double run_seconds = 0;  // wall time of the run, recording included; NaN: not reported (--no-timings)
+    std::string trajectory_file;  // relative to the output folder, if written
+};
+
+inline constexpr std::size_t kKeptApexes = 64;
+inline constexpr std::size_t kKeptContacts = 4096;
+inline constexpr std::size_t kReportedApexes = 5;  // in the terminal summary
+
+// A contact's damping as measured: |outgoing| / |incoming| normal speed, and
+// |outgoing| / |incoming| tangential speed (NaN when the incoming tangential
+// speed is below 1e-9 m/s). Stepped simulators: the incoming velocity is the
+// sample before the contact plus one step of gravity (what meets the wall in
+// a step that applies gravity first, as the document's does), the outgoing
+// one the sample after; the reference then measures alpha and beta exactly.
+// An engine that bounces the pre-gravity velocity measures alpha (1 - |g| dt / v).
+// exact: at the instant.
+// `normal_axes`: the axes of every wall touched in the same step (bit per
+// axis; a corner touches two or three): none of them is tangential, since
+// the law reverses each one's component by alpha.
+ContactEvent measure_contact(double t, int axis, int side, const Vec3& v_before, const Vec3& v_after, int dim,
+                             unsigned normal_axes = 0);
+
+// Where the ball's centre touches the walls: per axis r (lower) and size - r
+// (upper); unused axes (z in 2D) are unbounded. Every per-state measure runs
+// over the first D axes with these, a loop the compiler unrolls: D = 3 is
+// always right (an unused axis is unbounded and its state zero, so it changes
+// no bit), D = 2 skips that axis's work in a 2D scene.
+struct WallLimits {
+    explicit WallLimits(const Scenario& s);
+    Vec3 low, high;
+    // How far the ball's surface reaches beyond the nearest wall it overlaps
+    // (m): the largest of r - p_i and p_i - (size_i - r); <= 0 while clear.
+    template <int D = 3>
+    double penetration(const Vec3& p) const {
+        double deepest = -std::numeric_limits<double>::infinity();
+        for (int i = 0; i < D; ++i) deepest = std::max(deepest, std::max(low[i] - p[i], p[i] - high[i]));
+        return deepest;
+    }
+};
+// Mechanical energy per unit mass (J/kg): 0.5 |v|^2 - g.p (the unused axis
+// has g = p = 0 and subtracts an exact zero).
+template <int D = 3>
+double specific_energy(const State& s, const Vec3& gravity) {
+    double energy = 0.5 * s.v.head<D>().squaredNorm();
+    for (int i = 0; i < D; ++i) energy -= gravity[i] * s.p[i];
+    return energy;
+}
+
+// Consumes a simulator's state stream: counts and measures contacts, finds
+// apexes (the highest sample between floor contacts, refined by the parabola
+// through it and its neighbours), tracks penetration, energy and rest, watches
+// for non-finite states and for a ball beyond the room's walls (and stops the
+// run there), and passes every state to a sink if given.
+class StreamRecorder final : public RunSink {
+public:
+    StreamRecorder(const Scenario& s, StateSink* sink);
+
+    bool on_state(const State& s, ContactMask contact) override {
+        if (dim_ == 2) record<2>(s, contact);
+        else record<3>(s, contact);
+        return !failed();
+    }
+
+    // The run's remaining states, periodic: passed to the sink as a tail, and
+    // recorded with what stepping on would give, bit for bit (counts, kept
+    // contacts and apexes, maxima, rest, final state), without recording each
+    // state: whole cycles in the middle are counted, not replayed.
+    void on_periodic_tail(const PeriodicTail& tail) override;
+
+    // Contacts, apexes and rest as the simulator resolved them: they replace
+    // what the samples showed (exact's contacts at their instants).
+    void on_resolved_events(const ResolvedEvents& events) override;
+
+    bool failed() const { return !failure_.empty(); }
+    // Fills counts, apexes, status and final state; the caller adds timing.
+    void finish(SimulatorSummary& out);
+
+private:
+    // D: the axes to look at (see WallLimits); 2 only for a 2D scenario (3
+    // gives the same bits).
+    template <int D>
+    void record(const State& s, ContactMask contact) {
+        if (sink_) sink_->write(s);
+        track_bounds_and_energy<D>(s);
+        if (contact.any()) count_contacts(s, contact);
+        track_rest(s);
+        track_apex(s);
+        last_ = s;
+        ++states_;
+    }
+
+    // Every state, inline and without a per-axis branch: the deepest
+    // penetration, the energy rise, and whether the state is sound (inside
+    // the room, finite). A non-finite position fails the room test; a
+    // non-finite velocity makes the energy NaN or +inf. Only an unsound
+    // state goes to diagnose(), which composes the failure.
+    template <int D>
+    void track_bounds_and_energy(const State& s) {
+        const double energy = specific_energy<D>(s, gravity_);
+        bool inside = true;
+        for (int i = 0; i < D; ++i) inside &= (s.p[i] >= low_limit_[i]) & (s.p[i] <= high_limit_[i]);
+        if (!(inside & (energy < std::numeric_limits<double>::infinity()))) diagnose(s);
+        if (states_ == 0) energy0_ = energy;
+        energy_max_rise_ = std::max(energy_max_rise_, energy - energy0_);
+        max_penetration_ = std::max(max_penetration_, walls_.penetration<D>(s.p));
+    }
+    // Records why a state is unsound (the first time); finds nothing when
+    // only the energy overflowed from a huge but finite velocity.
+    void diagnose(const State& s);
+    void count_contacts(const State& s, ContactMask contact);
+    void push_apex();
+    void track_apex(const State& s) {
+        const double height = s.p[vertical_];
+        if (!apex_open_ || height > apex_.height) {
+            apex_ = Apex{s.t, height};
+            apex_before_ = states_ > 0 && apex_open_ ? last_.p[vertical_] : std::nan("");
+            apex_after_ = std::nan("");
+            apex_open_ = true;
+        } else if (std::isnan(apex_after_)) {
+            apex_after_ = height;
+        }
+    }
+    void track_rest(const State& s) {
+        const bool resting = s.p[vertical_] - floor_ <= rest_height_ && std::abs(s.v[vertical_]) <= rest_speed_;
+        if (!resting) rest_since_.reset();
+        else if (!rest_since_) rest_since_ = s.t;
+    }
+
+    StateSink* sink_;
+    int dim_;
+    int vertical_;
+    Vec3 low_limit_, high_limit_;  // centre positions beyond which the ball has left the room (unused axes: infinite)
+    WallLimits walls_;
+    std::int64_t states_ = 0, contacts_ = 0, floor_contacts_ = 0, apex_count_ = 0;
+    std::vector<Apex> apexes_;
+    std::vector<ContactEvent> contact_events_;
+    Apex apex_;
+    double apex_before_ = 0, apex_after_ = 0;  // heights of the samples around the apex sample
+    Vec3 gravity_;
+    double energy0_ = 0, energy_max_rise_ = 0, max_penetration_ = 0;
+    bool apex_open_ = false;
+    State last_;
+    std::string failure_;
+    // Vertical rest: from rest_since_ on, the ball stayed within rest_height_
+    // of the floor with vertical speed below rest_speed_ (see summary.cpp).
+    static constexpr int kRestSteps = 10;
+    double floor_, rest_height_, rest_speed_, dt_;
+    std::optional<double> rest_since_;
+    std::optional<double> filled_from_;
+    std::int64_t fill_period_ = 0, fill_steps_ = 0;
+    // What on_resolved_events measured, applied by finish().
+    struct Resolved {
+        std::int64_t contacts = 0, floor_contacts = 0, apex_count = 0;
+        std::vector<ContactEvent> contact_events;
+        std::vector<Apex> apexes;
+        std::optional<double> rest_time;
+        bool contacts_unbounded = false;
+    };
+    std::optional<Resolved> resolved_;
+};
+
+// Runs `sim` on `s` with its stream recorded (and passed on to `sink` when
+// given): every metric of the run, with the simulator's own status, settings
+// and timing. A simulator that gives up itself wins over the recorder's
+// verdict on its states.
+SimulatorSummary record_run(const Simulator& sim, const Scenario& s, StateSink* sink = nullptr);
+
+}  // namespace bouncecheck

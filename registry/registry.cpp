@@ -1,0 +1,33 @@
+#include "registry/registry.h"
+
+#include "exact/exact_simulator.h"
+#include "reference/reference_simulator.h"
+#ifdef BOUNCECHECK_WITH_BULLET
+#include "engines/bullet/bullet_adapter.h"
+#endif
+#ifdef BOUNCECHECK_WITH_ODE
+#include "engines/ode/ode_adapter.h"
+#endif
+#ifdef BOUNCECHECK_WITH_BOX2D
+#include "engines/box2d/box2d_adapter.h"
+#endif
+
+namespace bouncecheck {
+
+std::vector<std::unique_ptr<const Simulator>> built_simulators() {
+    std::vector<std::unique_ptr<const Simulator>> all;
+    all.push_back(make_reference_simulator());
+    all.push_back(make_exact_simulator());
+#ifdef BOUNCECHECK_WITH_BULLET
+    all.push_back(make_bullet_simulator());
+#endif
+#ifdef BOUNCECHECK_WITH_ODE
+    all.push_back(make_ode_simulator());
+#endif
+#ifdef BOUNCECHECK_WITH_BOX2D
+    all.push_back(make_box2d_simulator());
+#endif
+    return all;
+}
+
+}  // namespace bouncecheck

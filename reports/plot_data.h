@@ -1,0 +1,76 @@
+// What report.html plots of a run, recorded while the simulators stream:
+// trajectories decimated so the page stays light, and the distance to the
+// reference and to exact over time. Memory is bounded by the point budget,
+// not by the run's length.
+#pragma once
+
+#include "simulators/state.h"
+#include "exact/exact_model.h"
+#include "scenarios/scenario.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace bouncecheck {
+
+// About this many evenly spaced samples per trace, plus the kept turning points.
+inline constexpr std::size_t kPlotPoints = 600;
+// Turning points (contacts, apexes) kept beyond the even samples, per trace:
+// a ball jittering on the floor reverses every step, and that must not grow
+// the page without bound.
+inline constexpr std::size_t kPlotTurningPoints = 3000;
+
+struct PlotTrace {
+    std::vector<double> t;
+    std::vector<Vec3> p;
+    std::size_t size() const { return t.size(); }
+};
+
+// Keeps every stride-th state, and both states around every reversal of a
+// velocity component (a contact or an apex), so the decimated path still
+// shows each bounce where it happened. The last state is always kept.
+class TraceDecimator final : public StateSink {
+public:
+    // expected_states: how many states the run will stream (sets the stride).
+    explicit TraceDecimator(std::int64_t expected_states, std::size_t budget = kPlotPoints);
+    void write(const State& s) override;
+    PlotTrace finish();
+
+private:
+    void keep(const State& s);
+    std::int64_t stride_, index_ = 0;
+    std::size_t turning_points_ = 0;
+    std::optional<State> previous_;
+    bool previous_kept_ = false;
+    PlotTrace trace_;
+};
+
+// A distance over time, decimated by keeping the largest value of each
+// window of `stride` samples (with its time), so no spike is lost.
+class WindowMaxSeries {
+public:
+    explicit WindowMaxSeries(std::int64_t stride) : stride_(stride < 1 ? 1 : stride) {}
+    void add(double t, double value);
+    // The values so far, the current partial window included.
+    std::vector<double> times() const;
+    std::vector<double> values() const;
+
+private:
+    std::int64_t stride_, in_window_ = 0;
+    double window_t_ = 0, window_max_ = -1;
+    std::vector<double> t_, v_;
+};
+
+// The exact path to draw: the document-clock samples with every resolved
+// contact and apex inserted at its instant, so the corners are sharp. At most
+// `budget` document samples (decimated evenly) and kPlotTurningPoints events.
+PlotTrace exact_plot_trace(const ExactModel& exact, const Scenario& s, std::size_t budget = kPlotPoints);
+
+// The states a scenario's run streams on the document clock (initial one included).
+std::int64_t expected_states(const Scenario& s);
+// Every how many states a plotted series keeps one, for about `budget` of them.
+std::int64_t plot_stride(std::int64_t states, std::size_t budget = kPlotPoints);
+
+}  // namespace bouncecheck

@@ -1,0 +1,62 @@
+// Reports of a `bouncecheck run`: the terminal tables, DIR/report.json,
+// DIR/report.md, DIR/junit.xml and DIR/bounces.csv. The JSON schema is
+// documented in docs/report-schema.md.
+#pragma once
+
+#include "comparison/comparison.h"
+#include "reports/plot_data.h"
+#include "metrics/summary.h"
+#include "scenarios/scenario.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace bouncecheck {
+
+inline constexpr const char* kReportSchema = "bouncecheck-report/1";
+
+struct ScenarioRun {
+    Scenario scenario;
+    std::vector<SimulatorSummary> results;  // in the order the simulators ran
+    // Parallel to results: against reference and exact; empty for a skipped simulator.
+    std::vector<std::optional<Comparison>> comparisons;
+    // What report.html draws, when the run recorded it (RunRequest::plots).
+    // Parallel to results; empty for a skipped simulator.
+    struct SimulatorPlot {
+        PlotTrace path;
+        std::vector<double> divergence_t, divergence;  // centre distance to the reference
+        std::vector<double> error_t, error;            // centre distance to exact
+    };
+    std::vector<std::optional<SimulatorPlot>> plots;
+    PlotTrace exact_path;            // exact's path with its contacts and apexes at their instants
+    std::vector<Apex> exact_apexes;  // the bars' exact values
+};
+
+struct RunReport {
+    std::vector<ScenarioRun> scenarios;
+};
+
+nlohmann::json to_json(const RunReport& report);
+// Text made safe for XML and HTML (junit.xml, the HTML pages' titles).
+std::string xml_escape(std::string_view s);
+// Per scenario, one row per simulator: steps, contacts, first apex heights, rest, run time.
+std::string format_summary(const RunReport& report);
+// Per scenario, one row per simulator: divergence from the reference, error
+// against exact, measured damping, threshold verdicts, ns per step. Fits 100
+// columns; ANSI colour only when `colour` (the CLI passes isatty(stdout)).
+std::string format_comparison(const RunReport& report, bool colour);
+std::string to_markdown(const RunReport& report);   // report.md: the same tables, for a pull request
+std::string to_junit(const RunReport& report);      // junit.xml: a test case per scenario x simulator x threshold
+std::string bounces_csv(const RunReport& report);   // bounces.csv: scenario,simulator,bounce,t,apex,measured_alpha,measured_beta
+// report.html: one self-contained page (the charting library inlined) with
+// the plots of every scenario that recorded them; see compare/html_report.cpp.
+std::string to_html(const RunReport& report);
+// Writes report.json, report.md, junit.xml, bounces.csv and, when the run
+// recorded plots, report.html into out_dir, each atomically.
+void write_reports(const RunReport& report, const std::filesystem::path& out_dir);
+
+}  // namespace bouncecheck

@@ -1,0 +1,57 @@
+#include "reports/web_assets.h"
+
+#include "reports/run_report.h"
+
+#include <fmt/format.h>
+
+#include <cstddef>
+
+extern "C" {
+extern const char bouncecheck_asset_plotly_js[], bouncecheck_asset_plotly_js_end[];
+extern const char bouncecheck_asset_page_js[], bouncecheck_asset_page_js_end[];
+extern const char bouncecheck_asset_page_css[], bouncecheck_asset_page_css_end[];
+}
+
+namespace bouncecheck {
+
+namespace {
+
+std::string_view span(const char* begin, const char* end) {
+    return {begin, static_cast<std::size_t>(end - begin)};
+}
+
+// Inside <script>, "</" could close the element early (e.g. a scenario named
+// "</script>"); "<\/" is the same string to JSON and to JavaScript.
+std::string script_safe_json(std::string_view json) {
+    std::string out;
+    out.reserve(json.size() + 16);
+    for (std::size_t i = 0; i < json.size(); ++i) {
+        out += json[i];
+        if (json[i] == '<' && i + 1 < json.size() && json[i + 1] == '/') out += '\\';
+    }
+    return out;
+}
+
+
+}  // namespace
+
+std::string_view plotly_js() { return span(bouncecheck_asset_plotly_js, bouncecheck_asset_plotly_js_end); }
+std::string_view page_js() { return span(bouncecheck_asset_page_js, bouncecheck_asset_page_js_end); }
+std::string_view page_css() { return span(bouncecheck_asset_page_css, bouncecheck_asset_page_css_end); }
+
+std::string self_contained_page(std::string_view title, std::string_view data_json) {
+    return fmt::format(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+        "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
+        // Nothing may leave the page: no server is asked for anything.
+        "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; "
+        "script-src 'unsafe-inline' 'unsafe-eval'; style-src 'unsafe-inline'; img-src data: blob:; "
+        "worker-src blob:\">\n"
+        "<title>{}</title>\n<style>\n{}</style>\n"
+        "<script>\n{}\n</script>\n"
+        "<script id=\"bouncecheck-data\" type=\"application/json\">{}</script>\n"
+        "</head>\n<body>\n<main id=\"page\"></main>\n<script>\n{}\n</script>\n</body>\n</html>\n",
+        xml_escape(title), page_css(), plotly_js(), script_safe_json(data_json), page_js());
+}
+
+}  // namespace bouncecheck

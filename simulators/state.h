@@ -1,0 +1,117 @@
+// One sample of a simulator's output: what every simulator streams.
+#pragma once
+
+#include "scenarios/scenario.h"
+
+#include <cstdint>
+#include <initializer_list>
+#include <vector>
+
+namespace bouncecheck {
+
+// Time, ball centre and velocity. In 2D the third components are zero.
+struct State {
+    double t = 0;
+    Vec3 p = Vec3::Zero();
+    Vec3 v = Vec3::Zero();
+};
+
+// Walls a simulator reports touching in one step, one bit per axis.
+struct ContactMask {
+    std::uint8_t lower = 0;
+    std::uint8_t upper = 0;
+    bool any() const { return (lower | upper) != 0; }
+};
+
+// The rest of a run whose states have become periodic (the reference's
+// micro-bounce at rest repeats bit for bit; exact at rest is constant): tail
+// state k (k = 0 .. count - 1) has the position, velocity and contacts of
+// cycle[k % cycle.size()] and the time t_k = t_{k-1} + dt from t_{-1} =
+// t_before, the document clock's own additions. A simulator hands this over
+// instead of stepping on (see StreamRecorder::on_periodic_tail).
+struct PeriodicTail {
+    std::vector<State> cycle;           // t unused
+    std::vector<ContactMask> contacts;  // per cycle state
+    std::int64_t count = 0;
+    double t_before = 0, dt = 0;
+    std::int64_t period() const { return static_cast<std::int64_t>(cycle.size()); }
+
+    // Walks the tail in order: next() makes the next state, pass() goes past
+    // it without making it (its time is still added: the clock's rounding
+    // has no closed form).
+    class Cursor {
+    public:
+        explicit Cursor(const PeriodicTail& tail) : tail_(&tail), t_(tail.t_before) {}
+        std::int64_t left() const { return tail_->count - done_; }
+        std::size_t phase() const { return phase_; }  // the next state's place in the cycle
+        double next_t() const { return t_ + tail_->dt; }
+        State next(ContactMask* contact = nullptr) {
+            State s = tail_->cycle[phase_];
+            if (contact) *contact = tail_->contacts[phase_];
+            s.t = pass();
+            return s;
+        }
+        double pass() {
+            t_ = t_ + tail_->dt;
+            if (++phase_ == tail_->cycle.size()) phase_ = 0;
+            ++done_;
+            return t_;
+        }
+
+    private:
+        const PeriodicTail* tail_;
+        double t_;
+        std::size_t phase_ = 0;
+        std::int64_t done_ = 0;
+    };
+};
+
+// Where a simulator's states go when someone wants them all: a trajectory
+// file, or memory (calibration, tests). Runs that need only metrics pass none.
+class StateSink {
+public:
+    virtual ~StateSink() = default;
+    virtual void write(const State& s) = 0;
+    // The run's remaining states, periodic. By default each one is written;
+    // a sink that can take them faster overrides this, with the same result.
+    virtual void write_periodic(const PeriodicTail& tail) {
+        for (PeriodicTail::Cursor at(tail); at.left() > 0;) write(at.next());
+    }
+};
+
+// Passes every state to each of a few sinks (null ones are left out).
+class TeeSink final : public StateSink {
+public:
+    TeeSink(std::initializer_list<StateSink*> sinks) {
+        for (StateSink* s : sinks)
+            if (s && count_ < kMaxSinks) sinks_[count_++] = s;
+    }
+    void write(const State& s) override {
+        for (int i = 0; i < count_; ++i) sinks_[i]->write(s);
+    }
+    void write_periodic(const PeriodicTail& tail) override {
+        for (int i = 0; i < count_; ++i) sinks_[i]->write_periodic(tail);
+    }
+
+private:
+    static constexpr int kMaxSinks = 4;
+    StateSink* sinks_[kMaxSinks] = {};
+    int count_ = 0;
+};
+
+// A highest point of the vertical coordinate between floor contacts.
+struct Apex {
+    double t = 0;
+    double height = 0;  // vertical coordinate of the centre
+};
+
+// A wall contact at its instant, as a simulator that resolves contacts in
+// continuous time knows it (exact): the centre and the velocity on both sides.
+struct WallContact {
+    double t = 0;
+    int axis = 0;
+    int side = -1;  // -1 lower wall (p = r), +1 upper wall (p = size - r)
+    Vec3 p = Vec3::Zero(), v_before = Vec3::Zero(), v_after = Vec3::Zero();
+};
+
+}  // namespace bouncecheck
