@@ -33,30 +33,26 @@
 # nothing is mounted under it; otherwise the script says so and leaves it.
 set -euo pipefail
 
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+SUITE=bookworm
 CACHE="${CLEANROOM_CACHE:-/var/cache/bouncecheck-cleanroom}"
 WORK_PARENT="${CLEANROOM_WORK:-/var/tmp}"
-SUITE=bookworm
+WORK=""      # this run's folder; ROOTFS is the root inside it
+ROOTFS=""
+MOUNTED=()   # mount points made in the root, in order
 
 say() { echo "cleanroom: $*"; }
 die() { echo "cleanroom: $*" >&2; exit 2; }
 
-(($# == 0)) || die "usage: scripts/cleanroom.sh (no arguments; see its opening comment)"
-[ "$(id -u)" -eq 0 ] || die "must run as root (debootstrap, chroot and mount need it)"
-command -v debootstrap >/dev/null || "$ROOT/scripts/packages.sh" debootstrap
-for tool in git tar chroot mount umount flock; do
-  command -v "$tool" >/dev/null || die "$tool is missing on this machine"
-done
-
 # The README's two quick-start commands: the first indented block under
 # "## Quick start", each line without its comment.
-mapfile -t COMMANDS < <(awk '
-  /^## / { in_section = ($0 == "## Quick start"); next }
-  !in_section || done { next }
-  /^    [^ ]/ { line = $0; sub(/^    /, "", line); sub(/[ \t]+#.*$/, "", line); print line; seen = 1; next }
-  seen { done = 1 }
-' "$ROOT/README.md")
-((${#COMMANDS[@]} == 2)) || die "README.md's Quick start should hold exactly two commands, found ${#COMMANDS[@]}"
+quick_start_commands() {
+  awk '
+    /^## / { in_section = ($0 == "## Quick start"); next }
+    !in_section || done { next }
+    /^    [^ ]/ { line = $0; sub(/^    /, "", line); sub(/[ \t]+#.*$/, "", line); print line; seen = 1; next }
+    seen { done = 1 }
+  ' "$1"
+}
 
 # The first URI this machine's apt sources give for a suite (one-line
 # sources.list entries and deb822 .sources files alike).
@@ -79,13 +75,6 @@ mirror_for() {
       END { flush() }' "$f"
   done | head -n 1
 }
-MIRROR="$(mirror_for "$SUITE")"
-SECURITY_MIRROR="$(mirror_for "$SUITE-security")"
-[ -n "$MIRROR" ] || die "no apt source for $SUITE on this machine to bootstrap Debian 12 from"
-ARCH="$(dpkg --print-architecture)"
-TARBALL="$CACHE/debian12-minbase-$ARCH.tar.gz"
-
-# --- the cached root --------------------------------------------------------
 
 # Paths mounted at or under $1, deepest first (mountinfo field 5; octal
 # escapes such as \040 for a space are left as they are: our paths have none).
@@ -95,7 +84,7 @@ mounts_under() { awk -v d="$1" '$5 == d || index($5, d "/") == 1 { print $5 }' /
 # bind mount of /dev would delete the machine's own device nodes.
 remove_tree() {
   local dir="$1"
-  [ -e "$dir" ] || return 0
+  [ -n "$dir" ] && [ -e "$dir" ] || return 0
   if [ -n "$(mounts_under "$dir")" ]; then
     echo "cleanroom: NOT removing $dir: still mounted under it:" >&2
     mounts_under "$dir" >&2
@@ -104,111 +93,135 @@ remove_tree() {
   rm -rf --one-file-system "$dir"
 }
 
-mkdir -p "$CACHE"
-exec 9>"$CACHE/.lock"
-flock 9  # one bootstrap at a time; a second run waits, then finds the tarball
-if [ ! -f "$TARBALL" ]; then
-  say "bootstrapping Debian 12 ($SUITE, minbase, $ARCH) from $MIRROR (once; cached as $TARBALL)"
+# Bootstraps the minimal Debian 12 root into the tarball $1, once.
+bootstrap_root() {
+  local tarball="$1" mirror security_mirror staging started
+  mirror="$(mirror_for "$SUITE")"
+  security_mirror="$(mirror_for "$SUITE-security")"
+  [ -n "$mirror" ] || die "no apt source for $SUITE on this machine to bootstrap Debian 12 from"
+  say "bootstrapping Debian 12 ($SUITE, minbase) from $mirror (once; cached as $tarball)"
   staging="$(mktemp -d "$CACHE/bootstrap.XXXXXX")"
-  trap 'remove_tree "$staging" || true' EXIT
+  WORK="$staging"  # cleaned up on every way out, as a run's root is
   started=$SECONDS
-  debootstrap --variant=minbase "$SUITE" "$staging/root" "$MIRROR" > "$staging/debootstrap.log" 2>&1 \
+  debootstrap --variant=minbase "$SUITE" "$staging/root" "$mirror" > "$staging/debootstrap.log" 2>&1 \
     || { tail -n 40 "$staging/debootstrap.log" >&2; die "debootstrap failed (log above)"; }
   # A fresh Debian 12 machine's apt sources: the release, its updates and
   # its security updates, from the same mirrors as this machine.
   {
-    echo "deb $MIRROR $SUITE main"
-    echo "deb $MIRROR $SUITE-updates main"
-    [ -z "$SECURITY_MIRROR" ] || echo "deb $SECURITY_MIRROR $SUITE-security main"
+    echo "deb $mirror $SUITE main"
+    echo "deb $mirror $SUITE-updates main"
+    [ -z "$security_mirror" ] || echo "deb $security_mirror $SUITE-security main"
   } > "$staging/root/etc/apt/sources.list"
   # No init system in a chroot: packages must not try to start services.
   printf '#!/bin/sh\nexit 101\n' > "$staging/root/usr/sbin/policy-rc.d"
   chmod 755 "$staging/root/usr/sbin/policy-rc.d"
   tar -C "$staging/root" --numeric-owner -czf "$staging/root.tar.gz" .
-  mv "$staging/root.tar.gz" "$TARBALL"
+  mv "$staging/root.tar.gz" "$tarball"
   remove_tree "$staging"
-  trap - EXIT
+  WORK=""
   say "bootstrapped in $((SECONDS - started)) s"
-fi
-flock -u 9
-
-# --- a fresh root for this run ----------------------------------------------
-
-WORK="$(mktemp -d "$WORK_PARENT/bouncecheck-cleanroom.XXXXXX")"
-ROOTFS="$WORK/root"
-MOUNTED=()
+}
 
 # Every way out: stop what still runs in the root, unmount, and delete the
-# root only if nothing is left mounted under it.
+# folder only if nothing is left mounted under it.
 cleanup() {
-  local pid link
-  for link in /proc/[0-9]*/root; do
-    [ "$(readlink "$link" 2>/dev/null)" = "$ROOTFS" ] || continue
-    pid="${link#/proc/}"; pid="${pid%/root}"
-    kill -KILL "$pid" 2>/dev/null || true
-  done
-  local i
+  local link pid i
+  if [ -n "$ROOTFS" ]; then
+    for link in /proc/[0-9]*/root; do
+      [ "$(readlink "$link" 2>/dev/null)" = "$ROOTFS" ] || continue
+      pid="${link#/proc/}"
+      kill -KILL "${pid%/root}" 2>/dev/null || true
+    done
+  fi
   for ((i = ${#MOUNTED[@]} - 1; i >= 0; i--)); do
     umount -R "${MOUNTED[i]}" 2>/dev/null || umount -R -l "${MOUNTED[i]}" 2>/dev/null || true
   done
   remove_tree "$WORK" || true
 }
-trap cleanup EXIT
-trap 'exit 130' INT
-trap 'exit 143' TERM
-trap 'exit 129' HUP
 
-mkdir -p "$ROOTFS"
-tar -C "$ROOTFS" --numeric-owner -xzf "$TARBALL"
-
-cp -L /etc/resolv.conf "$ROOTFS/etc/resolv.conf"
-carried=()
-for crt in /usr/local/share/ca-certificates/*.crt; do
-  [ -f "$crt" ] || continue
-  mkdir -p "$ROOTFS/usr/local/share/ca-certificates"
-  cp "$crt" "$ROOTFS/usr/local/share/ca-certificates/"
-  carried+=("$crt")
-done
-[ ! -f /etc/npmrc ] || { cp /etc/npmrc "$ROOTFS/etc/npmrc"; carried+=(/etc/npmrc); }
-((${#carried[@]} == 0)) || say "carried into the root: ${carried[*]}"
-
-git -C "$ROOT" rev-parse --verify -q HEAD >/dev/null || die "$ROOT has no commit to clone"
-git clone -q "$ROOT" "$ROOTFS/root/bouncecheck"
-say "clone of $(git -C "$ROOTFS/root/bouncecheck" rev-parse --short HEAD) at /root/bouncecheck in a fresh root ($WORK)"
-
-for fs in proc sys dev; do
-  mkdir -p "$ROOTFS/$fs"
-  MOUNTED+=("$ROOTFS/$fs")
-  mount --rbind "/$fs" "$ROOTFS/$fs"
-  mount --make-rslave "$ROOTFS/$fs"  # unmounting ours must not unmount the machine's
-done
-if [ -n "${CLEANROOM_APT_CACHE:-}" ]; then
-  mkdir -p "$CLEANROOM_APT_CACHE"
-  MOUNTED+=("$ROOTFS/var/cache/apt/archives")
-  mount --bind "$CLEANROOM_APT_CACHE" "$ROOTFS/var/cache/apt/archives"
-fi
-
-ENVIRONMENT=(HOME=/root LANG=C.UTF-8 TERM="${TERM:-dumb}" PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin)
-for var in http_proxy https_proxy no_proxy HTTP_PROXY HTTPS_PROXY NO_PROXY; do
-  [ -z "${!var:-}" ] || ENVIRONMENT+=("$var=${!var}")
-done
-
-results=()
-failed=0
-for command in "${COMMANDS[@]}"; do
+# Runs $1 in the root from the clone, timed; appends a line to RESULTS.
+run_in_root() {
+  local command="$1" started seconds status=0 environment var
+  environment=(HOME=/root LANG=C.UTF-8 TERM="${TERM:-dumb}" PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin)
+  for var in http_proxy https_proxy no_proxy HTTP_PROXY HTTPS_PROXY NO_PROXY; do
+    [ -z "${!var:-}" ] || environment+=("$var=${!var}")
+  done
   say "\$ $command"
   started=$(date +%s.%N)
-  status=0
   # In the background and waited for, so that a signal to this script is
-  # handled at once (cleanup stops what runs in the root) rather than after it.
-  chroot "$ROOTFS" /usr/bin/env -i "${ENVIRONMENT[@]}" /bin/bash -c "cd /root/bouncecheck && $command" &
+  # handled at once (cleanup stops what runs in the root), not after it.
+  chroot "$ROOTFS" /usr/bin/env -i "${environment[@]}" /bin/bash -c "cd /root/bouncecheck && $command" &
   wait $! || status=$?
   seconds=$(echo "$(date +%s.%N) $started" | awk '{ printf "%.0f", $1 - $2 }')
-  results+=("$(printf '%-16s exit %d  %d min %02d s' "$command" "$status" $((seconds / 60)) $((seconds % 60)))")
-  ((status == 0)) || failed=1
-done
+  RESULTS+=("$(printf '%-16s exit %d  %d min %02d s' "$command" "$status" $((seconds / 60)) $((seconds % 60)))")
+  return "$status"
+}
 
-say "the README's quick start on a fresh Debian 12 ($SUITE minbase, $ARCH):"
-printf '  %s\n' "${results[@]}"
-((failed == 0)) || { say "FAILED"; exit 1; }
-say "passed"
+main() {
+  local root commands tarball crt carried=() fs failed=0
+  root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+  (($# == 0)) || die "usage: scripts/cleanroom.sh (no arguments; see its opening comment)"
+  [ "$(id -u)" -eq 0 ] || die "must run as root (debootstrap, chroot and mount need it)"
+  command -v debootstrap >/dev/null || "$root/scripts/packages.sh" debootstrap
+  for fs in git tar chroot mount umount flock; do
+    command -v "$fs" >/dev/null || die "$fs is missing on this machine"
+  done
+  mapfile -t commands < <(quick_start_commands "$root/README.md")
+  ((${#commands[@]} == 2)) || die "README.md's Quick start should hold exactly two commands, found ${#commands[@]}"
+  git -C "$root" rev-parse --verify -q HEAD >/dev/null || die "$root has no commit to clone"
+
+  trap cleanup EXIT
+  trap 'exit 130' INT
+  trap 'exit 143' TERM
+  trap 'exit 129' HUP
+
+  mkdir -p "$CACHE"
+  tarball="$CACHE/debian12-minbase-$(dpkg --print-architecture).tar.gz"
+  exec 9>"$CACHE/.lock"
+  flock 9  # one bootstrap at a time; a second run waits, then finds the tarball
+  if [ ! -f "$tarball" ]; then bootstrap_root "$tarball"; fi
+  flock -u 9
+
+  # A fresh root for this run.
+  WORK="$(mktemp -d "$WORK_PARENT/bouncecheck-cleanroom.XXXXXX")"
+  ROOTFS="$WORK/root"
+  mkdir -p "$ROOTFS"
+  tar -C "$ROOTFS" --numeric-owner -xzf "$tarball"
+  cp -L /etc/resolv.conf "$ROOTFS/etc/resolv.conf"
+  for crt in /usr/local/share/ca-certificates/*.crt; do
+    [ -f "$crt" ] || continue
+    mkdir -p "$ROOTFS/usr/local/share/ca-certificates"
+    cp "$crt" "$ROOTFS/usr/local/share/ca-certificates/"
+    carried+=("$crt")
+  done
+  [ ! -f /etc/npmrc ] || { cp /etc/npmrc "$ROOTFS/etc/npmrc"; carried+=(/etc/npmrc); }
+  ((${#carried[@]} == 0)) || say "carried into the root: ${carried[*]}"
+
+  git clone -q "$root" "$ROOTFS/root/bouncecheck"
+  say "clone of $(git -C "$ROOTFS/root/bouncecheck" rev-parse --short HEAD) at /root/bouncecheck in a fresh root ($WORK)"
+
+  for fs in proc sys dev; do
+    mkdir -p "$ROOTFS/$fs"
+    MOUNTED+=("$ROOTFS/$fs")
+    mount --rbind "/$fs" "$ROOTFS/$fs"
+    mount --make-rslave "$ROOTFS/$fs"  # unmounting ours must not unmount the machine's
+  done
+  if [ -n "${CLEANROOM_APT_CACHE:-}" ]; then
+    mkdir -p "$CLEANROOM_APT_CACHE"
+    MOUNTED+=("$ROOTFS/var/cache/apt/archives")
+    mount --bind "$CLEANROOM_APT_CACHE" "$ROOTFS/var/cache/apt/archives"
+  fi
+
+  RESULTS=()
+  for command in "${commands[@]}"; do
+    run_in_root "$command" || failed=1
+  done
+  say "the README's quick start on a fresh Debian 12 ($SUITE minbase):"
+  printf '  %s\n' "${RESULTS[@]}"
+  ((failed == 0)) || { say "FAILED"; exit 1; }
+  say "passed"
+}
+
+# Defined whole before it runs: an edit to this file during a run (which
+# takes minutes) cannot change what the run does.
+main "$@"
