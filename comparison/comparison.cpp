@@ -11,12 +11,6 @@
 
 namespace bouncecheck {
 
-bool Comparison::passed() const {
-    for (const ThresholdCheck& t : thresholds)
-        if (!t.passed) return false;
-    return true;
-}
-
 // Running distance statistics against one baseline.
 struct TrajectoryComparer::Stats {
     explicit Stats(std::optional<double> rest) { result.rest_cut = rest; }
@@ -215,77 +209,6 @@ Divergence compare_bounces(const SimulatorSummary& self, const SimulatorSummary&
                              baseline.apex_count);
     }
     return d;
-}
-
-std::vector<ContactEvent> damping_contacts(const SimulatorSummary& self, const Scenario& s) {
-    // Measured from samples a step apart, a contact's coefficients carry one
-    // step of gravity, |g| dt, against its incoming speed: contacts slower than
-    // kMinSpeedInSteps |g| dt (micro-bounces) would measure gravity, not damping.
-    const double min_speed = kMinSpeedInSteps * s.gravity.norm() * s.dt;
-    std::vector<ContactEvent> out;
-    for (const ContactEvent& c : self.contact_events) {
-        if (self.rest_time && c.t >= *self.rest_time) break;
-        if (c.normal_speed_in >= min_speed) out.push_back(c);
-    }
-    return out;
-}
-
-DampingCheck check_damping(const SimulatorSummary& self, const Scenario& s, const ThresholdSet& limits) {
-    DampingCheck d;
-    d.normal_tolerance = limits.restitution_abs.value_or(kDefaultDampingTolerance);
-    d.tangential_tolerance = limits.tangential_abs.value_or(kDefaultDampingTolerance);
-    double normal_sum = 0, tangential_sum = 0, normal_dev = -1, tangential_dev = -1;
-    for (const ContactEvent& c : damping_contacts(self, s)) {
-        ++d.contacts;
-        normal_sum += c.normal_coefficient;
-        if (std::abs(c.normal_coefficient - s.alpha) > normal_dev) {
-            normal_dev = std::abs(c.normal_coefficient - s.alpha);
-            d.normal_worst = c.normal_coefficient;
-        }
-        if (std::isnan(c.tangential_retention)) continue;
-        ++d.tangential_contacts;
-        tangential_sum += c.tangential_retention;
-        if (std::abs(c.tangential_retention - s.beta) > tangential_dev) {
-            tangential_dev = std::abs(c.tangential_retention - s.beta);
-            d.tangential_worst = c.tangential_retention;
-        }
-    }
-    if (d.contacts > 0) d.normal_mean = normal_sum / d.contacts;
-    if (d.tangential_contacts > 0) d.tangential_mean = tangential_sum / d.tangential_contacts;
-    std::vector<std::string> differs;
-    if (d.contacts == 0) differs.push_back("no contact to measure");
-    if (normal_dev > d.normal_tolerance)
-        differs.push_back(fmt::format("normal coefficient up to {:.4f} against alpha {:g} (tolerance {:g})",
-                                      d.normal_worst, s.alpha, d.normal_tolerance));
-    if (tangential_dev > d.tangential_tolerance)
-        differs.push_back(fmt::format("tangential retention up to {:.4f} against beta {:g} (tolerance {:g})",
-                                      d.tangential_worst, s.beta, d.tangential_tolerance));
-    d.reproduces = differs.empty();
-    d.verdict = d.reproduces ? "reproduces the damping law" : fmt::format("{}", fmt::join(differs, "; "));
-    return d;
-}
-
-std::vector<ThresholdCheck> check_thresholds(const Comparison& c, const ThresholdSet& limits, const Scenario& s) {
-    std::vector<ThresholdCheck> out;
-    auto check = [&](const char* metric, const std::optional<double>& limit, double measured) {
-        if (limit) out.push_back({metric, measured, *limit, measured <= *limit});
-    };
-    const Divergence& ref = c.vs_reference;
-    check("bounce_height_rel", limits.bounce_height_rel, ref.bounce_height_rel_max);
-    if (limits.bounce_count && static_cast<int>(ref.bounces.size()) < *limits.bounce_count) {
-        // Fewer bounces than asked: the comparison itself fails, it is not skipped.
-        out.push_back({"bounce_count", static_cast<double>(ref.bounces.size()),
-                       static_cast<double>(*limits.bounce_count), false});
-    }
-    check("trajectory_rms", limits.trajectory_rms, ref.trajectory.rms);
-    check("trajectory_max", limits.trajectory_max, ref.trajectory.max);
-    // With nothing measured, a damping limit fails rather than passing unseen.
-    const double none = std::numeric_limits<double>::infinity();
-    check("restitution_abs", limits.restitution_abs,
-          c.damping.contacts > 0 ? std::abs(c.damping.normal_worst - s.alpha) : none);
-    check("tangential_abs", limits.tangential_abs,
-          c.damping.tangential_contacts > 0 ? std::abs(c.damping.tangential_worst - s.beta) : none);
-    return out;
 }
 
 }  // namespace bouncecheck

@@ -1,13 +1,12 @@
 // How far a simulator is from the reference (divergence) and from exact
-// (error): bounce heights, trajectory, damping semantics, and the CI
-// thresholds of the scenario.
+// (error): bounce by bounce, and sample by sample over the trajectory.
 //
 // Every simulator of a run samples on the document's clock (the scenario's
 // dt), so sample n of one is at the time of sample n of any other: the
 // trajectory comparison is sample by sample, with no interpolation.
 #pragma once
 
-#include "reports/plot_data.h"
+#include "comparison/window_max_series.h"
 #include "metrics/summary.h"
 #include "exact/exact_model.h"
 #include "scenarios/scenario.h"
@@ -20,11 +19,7 @@
 
 namespace bouncecheck {
 
-// Defaults where the scenario sets no threshold.
-inline constexpr int kDefaultBounceCount = 5;
-inline constexpr double kDefaultDampingTolerance = 0.02;  // for the damping verdict
-inline constexpr double kDivergenceTolerance = 0.01;      // m: "first exceeds" time of the trajectory
-inline constexpr double kMinSpeedInSteps = 30;  // damping: contacts slower than this x |g| dt are not measured
+inline constexpr double kDivergenceTolerance = 0.01;  // m: "first exceeds" time of the trajectory
 
 // One bounce (apex index) against the baseline's.
 struct BounceDiff {
@@ -51,31 +46,6 @@ struct Divergence {
     std::int64_t apexes_self = 0, apexes_baseline = 0;
     std::string note;  // how sequences of different lengths were handled
     TrajectoryDivergence trajectory;
-};
-
-// Measured damping against the law's alpha and beta, over the contacts
-// before the simulator's rest that hit the wall faster than 30 |g| dt
-// (slower ones measure one step of gravity as much as the damping).
-struct DampingCheck {
-    int contacts = 0, tangential_contacts = 0;
-    double normal_mean = 0, normal_worst = 0;  // measured coefficient; worst = farthest from alpha
-    double tangential_mean = 0, tangential_worst = 0;
-    double normal_tolerance = kDefaultDampingTolerance, tangential_tolerance = kDefaultDampingTolerance;
-    bool reproduces = true;
-    std::string verdict;  // "reproduces the damping law" or what differs
-};
-
-struct ThresholdCheck {
-    std::string metric;  // a [thresholds] key
-    double measured = 0, limit = 0;
-    bool passed = true;
-};
-
-struct Comparison {
-    Divergence vs_reference, vs_exact;
-    DampingCheck damping;
-    std::vector<ThresholdCheck> thresholds;  // empty when none is set for this simulator
-    bool passed() const;
 };
 
 // Compares a simulator's state stream, as it streams, with the reference
@@ -109,17 +79,8 @@ private:
     std::optional<WindowMaxSeries> reference_series_, exact_series_;
 };
 
-// The contacts the damping check measures: before the simulator's rest, and
-// faster than kMinSpeedInSteps |g| dt.
-std::vector<ContactEvent> damping_contacts(const SimulatorSummary& self, const Scenario& s);
-
 // Bounce-by-bounce comparison of two summaries' apexes and floor contacts.
 Divergence compare_bounces(const SimulatorSummary& self, const SimulatorSummary& baseline, int bounce_count,
                            const Scenario& s);
-
-DampingCheck check_damping(const SimulatorSummary& self, const Scenario& s, const ThresholdSet& limits);
-
-// The scenario's thresholds for this simulator, evaluated on its comparison.
-std::vector<ThresholdCheck> check_thresholds(const Comparison& c, const ThresholdSet& limits, const Scenario& s);
 
 }  // namespace bouncecheck

@@ -58,30 +58,6 @@ PlotTrace TraceDecimator::finish() {
     return trace_;
 }
 
-void WindowMaxSeries::add(double t, double value) {
-    if (in_window_ == 0 || value > window_max_) {
-        window_max_ = value;
-        window_t_ = t;
-    }
-    if (++in_window_ == stride_) {
-        t_.push_back(window_t_);
-        v_.push_back(window_max_);
-        in_window_ = 0;
-    }
-}
-
-std::vector<double> WindowMaxSeries::times() const {
-    std::vector<double> out = t_;
-    if (in_window_ > 0) out.push_back(window_t_);
-    return out;
-}
-
-std::vector<double> WindowMaxSeries::values() const {
-    std::vector<double> out = v_;
-    if (in_window_ > 0) out.push_back(window_max_);
-    return out;
-}
-
 PlotTrace exact_plot_trace(const ExactModel& exact, const Scenario& s, std::size_t budget) {
     // Events first: resolved contacts (where the ball touched) and apexes.
     std::vector<std::pair<double, Vec3>> events;

@@ -47,22 +47,6 @@ private:
     PlotTrace trace_;
 };
 
-// A distance over time, decimated by keeping the largest value of each
-// window of `stride` samples (with its time), so no spike is lost.
-class WindowMaxSeries {
-public:
-    explicit WindowMaxSeries(std::int64_t stride) : stride_(stride < 1 ? 1 : stride) {}
-    void add(double t, double value);
-    // The values so far, the current partial window included.
-    std::vector<double> times() const;
-    std::vector<double> values() const;
-
-private:
-    std::int64_t stride_, in_window_ = 0;
-    double window_t_ = 0, window_max_ = -1;
-    std::vector<double> t_, v_;
-};
-
 // The exact path to draw: the document-clock samples with every resolved
 // contact and apex inserted at its instant, so the corners are sharp. At most
 // `budget` document samples (decimated evenly) and kPlotTurningPoints events.

@@ -3,7 +3,7 @@
 // documented in docs/report-schema.md.
 #pragma once
 
-#include "comparison/comparison.h"
+#include "verdicts/verdicts.h"
 #include "reports/plot_data.h"
 #include "metrics/summary.h"
 #include "scenarios/scenario.h"

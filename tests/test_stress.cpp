@@ -3,6 +3,8 @@
 // ccd / substeps options they use, and `bouncecheck stress` end to end.
 #include "simulators/simulator.h"
 #include "commands/stress/stress_pipeline.h"
+#include "commands/stress/stress_suite.h"
+#include "scenarios/scenario_toml.h"
 #include "scenarios/loader.h"
 #include "tests/support/cli.h"
 #include "tests/support/engine_run.h"

@@ -13,15 +13,6 @@
 
 namespace bouncecheck {
 
-ThresholdSet limits_for(const Scenario& s, const std::string& simulator, const ThresholdSet& overrides) {
-    if (simulator == "reference") {
-        const auto it = s.thresholds.simulator.find("reference");
-        const ThresholdSet own = it == s.thresholds.simulator.end() ? ThresholdSet{} : it->second;
-        return own.overridden_by(overrides);
-    }
-    return s.thresholds.for_simulator(simulator).overridden_by(overrides);
-}
-
 namespace {
 
 // What one simulator's run produces before it is judged: the comparison's

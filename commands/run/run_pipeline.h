@@ -27,9 +27,4 @@ struct RunRequest {
 // recorded as failed; the others still run.
 ScenarioRun run_scenario(const Scenario& s, const RunRequest& request);
 
-// The limits that apply to `simulator`: the scenario's [thresholds], its
-// [thresholds.<simulator>], then the command line's. The reference is the
-// baseline: only a [thresholds.reference] table (or the command line) gates it.
-ThresholdSet limits_for(const Scenario& s, const std::string& simulator, const ThresholdSet& overrides);
-
 }  // namespace bouncecheck

@@ -1,0 +1,77 @@
+// `bouncecheck calibrate`: the friction coefficient that brings an engine
+// closest to the reference, optionally written into the scenario file.
+#include "commands/command.h"
+
+#include "commands/calibrate/calibrate_pipeline.h"
+#include "platform/atomic_file.h"
+#include "registry/registry.h"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace bouncecheck {
+
+namespace {
+
+struct CalibrateOptions {
+    std::string file;
+    std::string engine;
+    double max_mu = 1.0;
+    bool write = false;
+};
+
+int command_calibrate(const CalibrateOptions& opt) {
+    auto scenarios = load_all({opt.file});
+    if (!scenarios) return kBadInput;
+    const Scenario& s = scenarios->front();
+    auto all = built_simulators();
+    const auto it = std::find_if(all.begin(), all.end(), [&](const auto& sim) { return sim->name() == opt.engine; });
+    if (it == all.end() || opt.engine == "reference" || opt.engine == "exact") {
+        fmt::print(stderr, "error: --engine: '{}' is not a built engine\n", opt.engine);
+        return kBadInput;
+    }
+    if (s.engine_options(opt.engine).tangential_model != TangentialModel::friction) {
+        fmt::print(stderr, "error: {}: [engines.{}] uses tangential_model = \"per-contact\"; calibration tunes friction\n",
+                   opt.file, opt.engine);
+        return kBadInput;
+    }
+    if (auto why = (*it)->cannot_run(s)) {
+        fmt::print(stderr, "error: {}: {}\n", opt.file, *why);
+        return kBadInput;
+    }
+    const CalibrationResult r = calibrate_friction(s, **it, opt.max_mu);
+    fmt::print("{} on {}: objective = RMS distance of the ball centre from reference over the run\n", opt.engine,
+               s.name);
+    fmt::print("  mu = {:.6g}: divergence {:.4g} m (mu = 0: {:.4g} m; {} runs)\n", r.mu, r.divergence,
+               r.divergence_at_zero, r.evaluated.size());
+    if (opt.write) {
+        std::ifstream in(opt.file, std::ios::binary);
+        std::stringstream text;
+        text << in.rdbuf();
+        write_file_atomically(opt.file, with_calibrated_friction(text.str(), opt.file, opt.engine, r.mu, r.divergence));
+        fmt::print("  wrote friction = {:.6g} into [engines.{}] of {}\n", r.mu, opt.engine, opt.file);
+    }
+    return kOk;
+}
+
+}  // namespace
+
+Command add_calibrate_command(CLI::App& app) {
+    auto opt = std::make_shared<CalibrateOptions>();
+    CLI::App* command = app.add_subcommand(
+        "calibrate", "Find the friction coefficient mu that brings an engine closest to the reference");
+    command->add_option("scenario", opt->file, "Scenario file")->required();
+    command->add_option("--engine", opt->engine, "Engine to calibrate")->required();
+    command->add_option("--max-mu", opt->max_mu, "Upper end of the search")
+        ->capture_default_str()
+        ->check(CLI::Range(1e-3, 10.0));
+    command->add_flag("--write", opt->write, "Write the value into the file's [engines.<engine>] table");
+    return {command, [opt] { return command_calibrate(*opt); }};
+}
+
+}  // namespace bouncecheck

@@ -1,0 +1,137 @@
+// `bouncecheck run`: the scenarios through every selected simulator, compared
+// with the reference and exact, judged, and reported (tables, report.json,
+// report.md, junit.xml, bounces.csv, report.html).
+#include "commands/command.h"
+
+#include "commands/run/run_pipeline.h"
+#include "registry/registry.h"
+#include "reports/run_report.h"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace bouncecheck {
+
+namespace {
+
+struct RunOptions {
+    std::vector<std::string> files;
+    std::string engines;
+    std::string out_dir = "bouncecheck-out";
+    bool trajectories = false;
+    bool no_timings = false;
+    bool in_process = false;
+    std::vector<std::string> threshold_args;  // KEY=VALUE
+    ThresholdSet overrides;
+};
+
+// --threshold KEY=VALUE: a [thresholds] key and its limit, over every simulator's.
+std::optional<std::string> parse_threshold(const std::string& arg, ThresholdSet& out) {
+    const auto eq = arg.find('=');
+    if (eq == std::string::npos) return fmt::format("'{}' is not KEY=VALUE", arg);
+    const std::string key = arg.substr(0, eq), text = arg.substr(eq + 1);
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(value) || value < 0)
+        return fmt::format("'{}': the limit must be a finite number >= 0", arg);
+    if (key == "bounce_count") {
+        if (value < 1 || value > 10000 || value != std::floor(value))
+            return fmt::format("'{}': bounce_count must be an integer within [1, 10000]", arg);
+        out.bounce_count = static_cast<int>(value);
+    } else if (key == "bounce_height_rel") out.bounce_height_rel = value;
+    else if (key == "trajectory_rms") out.trajectory_rms = value;
+    else if (key == "trajectory_max") out.trajectory_max = value;
+    else if (key == "restitution_abs") out.restitution_abs = value;
+    else if (key == "tangential_abs") out.tangential_abs = value;
+    else
+        return fmt::format("'{}': unknown key (bounce_count, bounce_height_rel, trajectory_rms, trajectory_max, "
+                           "restitution_abs, tangential_abs)", key);
+    return std::nullopt;
+}
+
+int command_run(RunOptions opt) {
+    for (const auto& arg : opt.threshold_args) {
+        if (auto error = parse_threshold(arg, opt.overrides)) {
+            fmt::print(stderr, "error: --threshold {}\n", *error);
+            return kBadInput;
+        }
+    }
+    std::vector<fs::path> files(opt.files.begin(), opt.files.end());
+    if (files.empty()) files = scenario_files();
+    if (files.empty()) {
+        fmt::print(stderr, "error: no scenario given and none bundled in {}\n", bundled_scenario_dir().string());
+        return kBadInput;
+    }
+    auto scenarios = load_all(files);
+    if (!scenarios) return kBadInput;
+    std::set<std::string> names;
+    for (const auto& s : *scenarios) {
+        if (!names.insert(s.name).second) {
+            fmt::print(stderr, "error: two scenarios are named '{}': their outputs would collide\n", s.name);
+            return kBadInput;
+        }
+    }
+
+    const auto all = built_simulators();
+    const auto selected = select_simulators(all, opt.engines);
+    if (!selected) return kBadInput;
+    const fs::path out_dir = opt.out_dir;
+    if (!create_out_dir(out_dir)) return kBadInput;
+
+    RunReport report;
+    bool any_failed = false, any_exceeded = false;
+    for (const Scenario& s : *scenarios) {
+        ScenarioRun run = run_scenario(s, RunRequest{*selected, out_dir, opt.trajectories, opt.overrides, /*plots=*/true,
+                                                      /*isolate=*/!opt.in_process});
+        // Wall-clock figures are the only outputs that differ between runs of
+        // the same input: without them every file is a function of the input.
+        if (opt.no_timings)
+            for (SimulatorSummary& r : run.results) r.run_seconds = std::nan("");
+        for (std::size_t i = 0; i < run.results.size(); ++i) {
+            any_failed = any_failed || run.results[i].status == RunStatus::failed;
+            any_exceeded = any_exceeded || (run.comparisons[i] && !run.comparisons[i]->passed());
+        }
+        report.scenarios.push_back(std::move(run));
+    }
+
+    fmt::print("{}", format_summary(report));
+    const bool colour = ::isatty(::fileno(stdout)) && !std::getenv("NO_COLOR");
+    fmt::print("{}", format_comparison(report, colour));
+    write_reports(report, out_dir);
+    fmt::print("\nwrote report.html, report.json, report.md, junit.xml and bounces.csv in {}\n", out_dir.string());
+    if (any_failed) return kSimulatorFailed;
+    return any_exceeded ? kThresholdExceeded : kOk;
+}
+
+}  // namespace
+
+Command add_run_command(CLI::App& app) {
+    auto opt = std::make_shared<RunOptions>();
+    CLI::App* command = app.add_subcommand("run", "Run scenarios on every selected simulator and write the reports");
+    command->add_option("scenarios", opt->files, "Scenario files (default: the bundled ones)");
+    command->add_option("--engines", opt->engines, "Comma-separated simulators to run (default: every one built)");
+    command->add_option("--out", opt->out_dir, "Output folder")->capture_default_str();
+    command->add_flag("--trajectories", opt->trajectories,
+                      "Write DIR/<scenario>/<simulator>.csv with one row per step");
+    command->add_flag("--in-process", opt->in_process,
+                      "Run the engines in this process rather than each in a child process (an engine that "
+                      "aborts then ends the whole run)");
+    command->add_flag("--no-timings", opt->no_timings,
+                      "Leave run times out of every output, so that the same input gives the same bytes");
+    command->add_option("--threshold", opt->threshold_args,
+                        "KEY=VALUE: a [thresholds] limit for every simulator, over the scenario's (repeatable)");
+    return {command, [opt] { return command_run(*opt); }};
+}
+
+}  // namespace bouncecheck

@@ -1,0 +1,35 @@
+// The stress suite's scenarios: the bundled files under scenarios/stress/,
+// and two families generated in code (wall starts, a Monte-Carlo set), the
+// same on every build.
+#pragma once
+
+#include "reports/stress_report.h"
+#include "scenarios/scenario.h"
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+namespace bouncecheck {
+
+// Uniform double in [0, 1) from the top 53 bits of one draw. The suite's
+// random numbers use only this and integer arithmetic on the engine's output,
+// whose sequence the C++ standard fixes, so every build generates the same set.
+double unit_draw(std::mt19937_64& g);
+
+// `count` random valid scenarios (they pass the loader's validation) from
+// `seed`: 2D or 3D, room sides 0.2-3 m, radius 0.5-20% of the smallest side,
+// speeds up to 2 m/s per axis, gravity up to 10 m/s^2 (sometimes none,
+// sometimes tilted), alpha and beta over [0, 1] with 0 and 1 themselves
+// frequent, starts touching walls, dt from 2.4e-4 to 0.0625 s, 200-2000 steps.
+std::vector<Scenario> monte_carlo_scenarios(std::uint64_t seed, int count);
+
+// A ball starting in contact with each wall of a 2D and a 3D room, moving
+// into it, away from it, and at rest: 30 scenarios.
+std::vector<Scenario> wall_start_scenarios();
+
+// The whole suite: the given files' scenarios (one row each), then the
+// wall-start and Monte-Carlo families.
+std::vector<StressCase> stress_suite(const std::vector<Scenario>& files);
+
+}  // namespace bouncecheck

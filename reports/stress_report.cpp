@@ -1,0 +1,266 @@
+#include "reports/stress_report.h"
+
+#include "platform/atomic_file.h"
+#include "reports/json_number.h"
+#include "scenarios/scenario_toml.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+namespace bouncecheck {
+
+const char* to_string(Invariant i) {
+    switch (i) {
+        case Invariant::finite: return "finite";
+        case Invariant::in_room: return "in_room";
+        case Invariant::energy: return "energy";
+        case Invariant::time_budget: return "time_budget";
+        case Invariant::flat_cost: return "flat_cost";
+    }
+    return "?";
+}
+
+const char* to_string(StressOutcome o) {
+    switch (o) {
+        case StressOutcome::pass: return "pass";
+        case StressOutcome::fail: return "fail";
+        case StressOutcome::skipped: return "skipped";
+        case StressOutcome::crashed: return "crashed";
+    }
+    return "?";
+}
+
+const InvariantCheck* StressResult::first_broken() const {
+    const InvariantCheck* first = nullptr;
+    for (const InvariantCheck& c : checks) {
+        if (c.held) continue;
+        if (!first || (c.first_t && (!first->first_t || *c.first_t < *first->first_t))) first = &c;
+    }
+    return first;
+}
+
+namespace {
+
+const char* short_name(Invariant i) {
+    switch (i) {
+        case Invariant::finite: return "finite";
+        case Invariant::in_room: return "room";
+        case Invariant::energy: return "energy";
+        case Invariant::time_budget: return "time";
+        case Invariant::flat_cost: return "cost";
+    }
+    return "?";
+}
+
+std::string cell(const std::vector<const StressResult*>& results) {
+    if (results.size() == 1 && results.front()->row == results.front()->scenario) {
+        const StressResult& r = *results.front();
+        switch (r.outcome) {
+            case StressOutcome::pass: return "pass";
+            case StressOutcome::skipped: return "-";
+            case StressOutcome::crashed: return "CRASH";
+            case StressOutcome::fail: return fmt::format("FAIL {}", short_name(r.first_broken()->invariant));
+        }
+    }
+    int pass = 0, ran = 0, crashed = 0;
+    for (const StressResult* r : results) {
+        if (r->outcome == StressOutcome::skipped) continue;
+        ++ran;
+        pass += r->outcome == StressOutcome::pass;
+        crashed += r->outcome == StressOutcome::crashed;
+    }
+    if (ran == 0) return "-";
+    std::string out = fmt::format("{}/{}", pass, ran);
+    if (crashed) out += fmt::format(" {}C", crashed);
+    return out;
+}
+
+std::string describe(const InvariantCheck& c) {
+    switch (c.invariant) {
+        case Invariant::finite: return "non-finite state";
+        case Invariant::in_room:
+            return fmt::format("penetration {:.4g} m > {:.4g} m (worst {:.4g} m)", c.first_value, c.tolerance, c.worst);
+        case Invariant::energy:
+            return fmt::format("energy rise {:.4g} J/kg > {:.4g} J/kg (worst {:.4g} J/kg)", c.first_value, c.tolerance,
+                               c.worst);
+        case Invariant::time_budget:
+            return fmt::format("run stopped after {:.3g} s of wall time, budget {:.3g} s", c.first_value, c.tolerance);
+        case Invariant::flat_cost:
+            return fmt::format("late ns/step {:.3g}x early (limit {:.3g}x), first block {:.3g}x", c.worst, c.tolerance,
+                               c.first_value);
+    }
+    return "";
+}
+
+}  // namespace
+
+std::string format_stress_matrix(const StressReport& r) {
+    const std::size_t n_sim = r.simulators.size();
+    std::size_t row_width = 8;
+    for (const auto& row : r.rows) row_width = std::max(row_width, row.size());
+    std::string out = fmt::format("\nstress: {} rows x {} simulators, {} runs in {:.1f} s\n", r.rows.size(), n_sim,
+                                  r.results.size(), r.wall_seconds);
+    out += fmt::format("  {:<{}}", "scenario", row_width);
+    for (const auto& sim : r.simulators) out += fmt::format(" {:>13}", sim);
+    out += "\n";
+    for (const auto& row : r.rows) {
+        out += fmt::format("  {:<{}}", row, row_width);
+        for (std::size_t e = 0; e < n_sim; ++e) {
+            std::vector<const StressResult*> in_row;
+            for (std::size_t i = e; i < r.results.size(); i += n_sim)
+                if (r.results[i].row == row) in_row.push_back(&r.results[i]);
+            out += fmt::format(" {:>13}", cell(in_row));
+        }
+        out += "\n";
+    }
+    out += "  pass: every invariant held; FAIL <first invariant broken>; - skipped; families: passed/ran, C crashed\n";
+    out += fmt::format("  tolerances: finite state; room: penetration <= r/2; energy: rise <= 1% of the starting "
+                       "energy + k^2 |g|^2 dt^2; time: {:g} s per run; cost: late ns/step <= {:g}x early\n",
+                       r.budget_seconds, kCostRatioLimit);
+    return out;
+}
+
+std::string format_stress_failures(const StressReport& r) {
+    constexpr int kPerFamily = 5;
+    std::string out;
+    std::map<std::pair<std::string, std::string>, int> listed;  // (row, simulator) -> lines so far
+    std::map<std::pair<std::string, std::string>, int> hidden;
+    for (const StressResult& res : r.results) {
+        if (res.outcome != StressOutcome::fail && res.outcome != StressOutcome::crashed) continue;
+        const auto key = std::pair(res.row, res.simulator);
+        if (res.row != res.scenario && listed[key] >= kPerFamily) {
+            ++hidden[key];
+            continue;
+        }
+        ++listed[key];
+        const std::string name = res.row == res.scenario ? res.scenario : fmt::format("{}/{}", res.row, res.scenario);
+        if (res.outcome == StressOutcome::crashed) {
+            out += fmt::format("  {} / {}: crashed: {}\n", name, res.simulator, res.reason);
+            continue;
+        }
+        for (const InvariantCheck& c : res.checks) {
+            if (c.held) continue;
+            out += fmt::format("  {} / {}: {} broke at t = {:.6g} s: {}\n", name, res.simulator, to_string(c.invariant),
+                               c.first_t.value_or(0.0), describe(c));
+        }
+    }
+    for (const auto& [key, n] : hidden)
+        out += fmt::format("  {} / {}: {} more (stress.csv)\n", key.first, key.second, n);
+    return out.empty() ? out : "\nbroken invariants:\n" + out;
+}
+
+namespace {
+
+std::string csv_field(const std::string& s) {
+    if (s.find_first_of(",\"\n") == std::string::npos) return s;
+    std::string out = "\"";
+    for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return out + "\"";
+}
+
+std::string num(double v) { return fmt::format("{:.17g}", v); }
+std::string opt_num(const std::optional<double>& v) { return v ? num(*v) : ""; }
+
+
+}  // namespace
+
+std::string stress_csv(const StressReport& r) {
+    std::string out = "row,scenario,simulator,outcome,first_broken,first_t,first_value,tolerance,penetration,"
+                      "penetration_tol,energy_rise,energy_tol,run_seconds,cost_ratio,steps,ccd,substeps,reason\n";
+    for (const StressResult& res : r.results) {
+        std::string checks = ",,,,,,,,,";
+        if (!res.checks.empty()) {
+            const InvariantCheck* first = res.first_broken();
+            const InvariantCheck& room = res.checks[1];
+            const InvariantCheck& energy = res.checks[2];
+            const InvariantCheck& cost = res.checks[4];
+            checks = fmt::format("{},{},{},{},{},{},{},{},{},{}", first ? to_string(first->invariant) : "",
+                                 first ? opt_num(first->first_t) : "", first ? num(first->first_value) : "",
+                                 first ? num(first->tolerance) : "", num(room.worst), num(room.tolerance),
+                                 num(energy.worst), num(energy.tolerance), num(res.run_seconds),
+                                 cost.checked ? num(cost.worst) : "");
+        } else {
+            checks = fmt::format(",,,,,,,,{},", res.outcome == StressOutcome::skipped ? "" : num(res.run_seconds));
+        }
+        out += fmt::format("{},{},{},{},{},{},{},{},{}\n", res.row, res.scenario, res.simulator, to_string(res.outcome),
+                           checks, res.steps, csv_field(res.ccd), csv_field(res.substeps), csv_field(res.reason));
+    }
+    return out;
+}
+
+nlohmann::json stress_json(const StressReport& r, const std::vector<StressCase>& cases,
+                           const nlohmann::json& parameters) {
+    nlohmann::json results = nlohmann::json::array();
+    for (const StressResult& res : r.results) {
+        nlohmann::json checks = nlohmann::json::object();
+        for (const InvariantCheck& c : res.checks)
+            checks[to_string(c.invariant)] = {{"checked", c.checked},       {"held", c.held},
+                                              {"tolerance", json_number(c.tolerance)},
+                                              {"worst", json_number(c.worst)}, {"first_t", json_number(c.first_t)},
+                                              {"first_value", json_number(c.first_value)}};
+        const InvariantCheck* first = res.first_broken();
+        results.push_back({{"row", res.row},
+                           {"scenario", res.scenario},
+                           {"simulator", res.simulator},
+                           {"outcome", to_string(res.outcome)},
+                           {"reason", res.reason},
+                           {"first_broken", first ? nlohmann::json(to_string(first->invariant)) : nlohmann::json(nullptr)},
+                           {"steps", res.steps},
+                           {"run_seconds", res.run_seconds},
+                           {"ccd", res.ccd},
+                           {"substeps", res.substeps},
+                           {"invariants", checks}});
+    }
+    nlohmann::json generated = nlohmann::json::array();
+    auto vec = [](const Scenario& s, const Vec3& v) {
+        std::vector<double> out(v.data(), v.data() + s.dim);
+        return out;
+    };
+    for (const StressCase& c : cases) {
+        if (!c.generated) continue;
+        const Scenario& s = c.scenario;
+        generated.push_back({{"name", s.name}, {"row", c.row}, {"dim", s.dim}, {"room", vec(s, s.room)},
+                             {"radius", s.radius}, {"position", vec(s, s.position)},
+                             {"velocity", vec(s, s.velocity)}, {"gravity", vec(s, s.gravity)}, {"alpha", s.alpha},
+                             {"beta", s.beta}, {"dt", s.dt}, {"duration", s.duration}});
+    }
+    return {{"schema", kStressSchema},
+            {"version", BOUNCECHECK_VERSION},
+            {"parameters", parameters},
+            {"monte_carlo", {{"seed", kMonteCarloSeed}, {"count", kMonteCarloCount}}},
+            {"tolerances",
+             {{"finite", "every state component finite"},
+              {"in_room", "penetration of the ball's surface beyond a wall <= radius / 2 (m)"},
+              {"energy", "rise of 0.5|v|^2 - g.p above its initial value <= 1% of the energy available at the start "
+                         "+ k^2 |g|^2 dt^2, k = clamp((1+alpha)/(1-alpha), 2, 20) (J/kg); when alpha, beta <= 1"},
+              {"time_budget", "wall time of one run <= budget_seconds"},
+              {"flat_cost", fmt::format("median ns/step of the last quarter of {}-state blocks <= {}x the first "
+                                        "quarter's; judged from {} blocks",
+                                        kCostBlockSteps, kCostRatioLimit, kCostMinBlocks)}}},
+            {"rows", r.rows},
+            {"simulators", r.simulators},
+            {"wall_seconds", r.wall_seconds},
+            {"results", std::move(results)},
+            {"generated_scenarios", std::move(generated)}};
+}
+
+void write_stress(const StressReport& r, const std::vector<StressCase>& cases, const nlohmann::json& parameters,
+                  const std::filesystem::path& out_dir) {
+    write_file_atomically(out_dir / "stress.csv", stress_csv(r));
+    write_file_atomically(out_dir / "stress.json", stress_json(r, cases, parameters).dump(2) + "\n");
+    // A generated scenario that broke something, as a file `bouncecheck run` reproduces.
+    std::set<std::string> written;
+    for (const StressResult& res : r.results) {
+        if (res.outcome != StressOutcome::fail && res.outcome != StressOutcome::crashed) continue;
+        const auto c = std::find_if(cases.begin(), cases.end(),
+                                    [&](const StressCase& k) { return k.generated && k.scenario.name == res.scenario; });
+        if (c == cases.end() || !written.insert(res.scenario).second) continue;
+        std::filesystem::create_directories(out_dir / kStressScenarioDir);
+        write_file_atomically(out_dir / kStressScenarioDir / (res.scenario + ".toml"), scenario_toml(c->scenario));
+    }
+}
+
+}  // namespace bouncecheck

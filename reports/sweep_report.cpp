@@ -1,0 +1,123 @@
+#include "reports/sweep_report.h"
+
+#include "platform/atomic_file.h"
+#include "reports/json_number.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <type_traits>
+
+namespace bouncecheck {
+
+namespace {
+
+template <class T>
+std::string csv_number(const std::optional<T>& v) {
+    if (!v) return "";
+    if constexpr (std::is_integral_v<T>) return fmt::format("{}", *v);
+    else return fmt::format("{:.17g}", *v);
+}
+
+std::string table_number(const std::optional<double>& v, const char* spec) {
+    return v ? fmt::format(fmt::runtime(spec), *v) : std::string("-");
+}
+
+}  // namespace
+
+std::string sweep_csv(const SweepResult& r) {
+    std::string out = "engine,dt,status,error,bounce_error,ns_per_step,sec_per_sim_sec,steps\n";
+    for (const SweepRow& row : r.rows)
+        out += fmt::format("{},{:.17g},{},{},{},{},{},{}\n", row.engine, row.dt, to_string(row.status),
+                           csv_number(row.error), csv_number(row.bounce_error), csv_number(row.ns_per_step),
+                           csv_number(row.sec_per_sim_sec), csv_number(row.steps));
+    return out;
+}
+
+std::vector<bool> pareto_front(const std::vector<SweepRow>& rows) {
+    const auto usable = [](const SweepRow& r) {
+        return r.status == RunStatus::ok && r.error && *r.error > 0 && r.sec_per_sim_sec;
+    };
+    std::vector<bool> front(rows.size(), false);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        if (!usable(rows[i])) continue;
+        front[i] = std::none_of(rows.begin(), rows.end(), [&](const SweepRow& other) {
+            if (!usable(other)) return false;
+            const bool no_worse = *other.error <= *rows[i].error && *other.sec_per_sim_sec <= *rows[i].sec_per_sim_sec;
+            const bool better = *other.error < *rows[i].error || *other.sec_per_sim_sec < *rows[i].sec_per_sim_sec;
+            return no_worse && better;
+        });
+    }
+    return front;
+}
+
+nlohmann::json sweep_json(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters) {
+    nlohmann::json rows = nlohmann::json::array();
+    const std::vector<bool> front = pareto_front(r.rows);
+    for (std::size_t i = 0; i < r.rows.size(); ++i) {
+        const SweepRow& row = r.rows[i];
+        nlohmann::json j{{"engine", row.engine},
+                         {"dt", row.dt},
+                         {"status", to_string(row.status)},
+                         {"error", json_number(row.error)},
+                         {"bounce_error", json_number(row.bounce_error)},
+                         {"ns_per_step", json_number(row.ns_per_step)},
+                         {"sec_per_sim_sec", json_number(row.sec_per_sim_sec)},
+                         {"steps", json_number(row.steps)},
+                         {"min_seconds", json_number(row.min_seconds)},
+                         {"pareto", static_cast<bool>(front[i])}};
+        if (!row.reason.empty()) j["reason"] = row.reason;
+        rows.push_back(std::move(j));
+    }
+    nlohmann::json orders = nlohmann::json::array();
+    for (const SweepOrder& o : r.orders)
+        orders.push_back({{"engine", o.engine}, {"order", json_number(o.order)}, {"points", o.points}});
+    return {{"schema", kSweepSchema},
+            {"version", BOUNCECHECK_VERSION},
+            {"scenario", s.name},
+            {"dim", s.dim},
+            {"duration", s.duration},
+            {"error_metric", "trajectory RMS against exact before exact's rest (m)"},
+            {"bounce_error_metric", "largest relative bounce height difference against exact"},
+            {"parameters", parameters},
+            {"rows", std::move(rows)},
+            {"orders", std::move(orders)}};
+}
+
+std::string format_sweep(const Scenario& s, const SweepResult& r) {
+    std::string out = fmt::format(
+        "\n{}: work-precision sweep (error: trajectory RMS against exact before its rest; "
+        "timing: fastest of the timed runs)\n",
+        s.name);
+    out += fmt::format("  {:<10} {:>11} {:>11} {:>11} {:>10}  {}\n", "engine", "dt", "error (m)", "bounce err",
+                       "ns/step", "status");
+    for (const SweepOrder& o : r.orders) {
+        for (const SweepRow& row : r.rows) {
+            if (row.engine != o.engine) continue;
+            std::string status = to_string(row.status);
+            if (!row.reason.empty()) status += ": " + row.reason;
+            out += fmt::format("  {:<10} {:>11.6g} {:>11} {:>11} {:>10}  {}\n", row.engine, row.dt,
+                               table_number(row.error, "{:.4e}"), table_number(row.bounce_error, "{:.4e}"),
+                               table_number(row.ns_per_step, "{:.1f}"), status);
+        }
+        if (o.order)
+            out += fmt::format("  {:<10} observed order {:.3f} (least squares over {} points)\n", o.engine, *o.order,
+                               o.points);
+        else
+            out += fmt::format("  {:<10} observed order: not enough points ({} with error > 0)\n", o.engine, o.points);
+    }
+    return out;
+}
+
+void write_sweep(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters,
+                 const std::filesystem::path& out_dir) {
+    write_file_atomically(out_dir / "sweep.csv", sweep_csv(r));
+    const nlohmann::json json = sweep_json(s, r, parameters);
+    write_file_atomically(out_dir / "sweep.json", json.dump(2) + "\n");
+    write_file_atomically(out_dir / "sweep.html", sweep_html(json));
+}
+
+}  // namespace bouncecheck

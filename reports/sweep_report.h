@@ -1,0 +1,64 @@
+// The files and table of a work-precision sweep (`bouncecheck sweep`):
+// its rows, each simulator's fitted order, sweep.csv, sweep.json, sweep.html
+// and the terminal table.
+#pragma once
+
+#include "scenarios/scenario.h"
+#include "simulators/simulator.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace bouncecheck {
+
+inline constexpr const char* kSweepSchema = "bouncecheck-sweep/1";
+
+struct SweepRow {
+    std::string engine;
+    double dt = 0;
+    RunStatus status = RunStatus::ok;
+    std::string reason;                  // why skipped or failed
+    std::optional<double> error;         // trajectory RMS against exact before exact's rest (m)
+    std::optional<double> bounce_error;  // largest relative bounce height difference against exact
+    std::optional<double> ns_per_step;   // min over the timed runs
+    std::optional<double> sec_per_sim_sec;
+    std::optional<std::int64_t> steps;
+    std::optional<double> min_seconds;   // the fastest timed run
+};
+
+struct SweepOrder {
+    std::string engine;
+    std::optional<double> order;  // slope of log(error) against log(dt); needs two points
+    int points = 0;               // successful rows with error > 0
+};
+
+struct SweepResult {
+    std::vector<SweepRow> rows;  // engine-major, in the request's order; dt in the request's order
+    std::vector<SweepOrder> orders;  // one per engine, in the request's order
+};
+
+// For each row: is it on the Pareto front of error against cost (sec_per_sim_sec)?
+// A row is, if it succeeded with error > 0 and no other such row is at least
+// as good on both and better on one.
+std::vector<bool> pareto_front(const std::vector<SweepRow>& rows);
+
+// sweep.csv: engine,dt,status,error,bounce_error,ns_per_step,sec_per_sim_sec,steps
+std::string sweep_csv(const SweepResult& r);
+// sweep.json: the rows (with their Pareto flag), each engine's fitted order and the command's parameters.
+nlohmann::json sweep_json(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters);
+// The terminal table: engine, dt, error, bounce error, ns/step; each engine's order.
+std::string format_sweep(const Scenario& s, const SweepResult& r);
+// sweep.html: the work-precision plot (log-log error against cost, one line
+// per engine, the Pareto front marked) and the orders, self-contained like
+// report.html (compare/html_report.cpp).
+std::string sweep_html(const nlohmann::json& sweep);
+// Writes DIR/sweep.csv, DIR/sweep.json and DIR/sweep.html, each atomically.
+void write_sweep(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters,
+                 const std::filesystem::path& out_dir);
+
+}  // namespace bouncecheck
