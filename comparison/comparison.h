@@ -7,8 +7,8 @@
 #pragma once
 
 #include "comparison/window_max_series.h"
-#include "metrics/summary.h"
 #include "exact/exact_model.h"
+#include "metrics/summary.h"
 #include "scenarios/scenario.h"
 
 #include <cstdint>

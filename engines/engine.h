@@ -3,8 +3,8 @@
 // reporting. An engine adapter only builds its world and steps it.
 #pragma once
 
-#include "simulators/simulator.h"
 #include "scenarios/scenario.h"
+#include "simulators/simulator.h"
 
 #include <cmath>
 #include <functional>

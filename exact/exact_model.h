@@ -46,9 +46,9 @@
 // clock's last sample (which can overshoot duration by up to dt) is exact too.
 #pragma once
 
-#include "simulators/state.h"
-#include "simulators/document_clock.h"
 #include "scenarios/scenario.h"
+#include "simulators/document_clock.h"
+#include "simulators/state.h"
 
 #include <cstddef>
 #include <cstdint>

@@ -4,8 +4,8 @@
 // produce results.
 #pragma once
 
-#include "simulators/state.h"
 #include "scenarios/scenario.h"
+#include "simulators/state.h"
 
 #include <array>
 

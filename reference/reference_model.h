@@ -25,9 +25,9 @@
 // slows down; before that it is the plain hardware step.
 #pragma once
 
-#include "simulators/state.h"
-#include "simulators/document_clock.h"
 #include "scenarios/scenario.h"
+#include "simulators/document_clock.h"
+#include "simulators/state.h"
 
 #include <array>
 #include <bit>

@@ -2,7 +2,7 @@
 // page with the charting library; sweep.html: sweep.json's, likewise. The page script (compare/html/page.js)
 // builds every plot and table from that data; this file only prepares it.
 #include "reports/run_report.h"
-#include "commands/sweep/sweep_pipeline.h"
+#include "reports/sweep_report.h"
 #include "reports/web_assets.h"
 
 #include <fmt/format.h>

@@ -4,9 +4,9 @@
 // not by the run's length.
 #pragma once
 
-#include "simulators/state.h"
 #include "exact/exact_model.h"
 #include "scenarios/scenario.h"
+#include "simulators/state.h"
 
 #include <cstddef>
 #include <cstdint>

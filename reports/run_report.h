@@ -3,10 +3,10 @@
 // documented in docs/report-schema.md.
 #pragma once
 
-#include "verdicts/verdicts.h"
-#include "reports/plot_data.h"
 #include "metrics/summary.h"
+#include "reports/plot_data.h"
 #include "scenarios/scenario.h"
+#include "verdicts/verdicts.h"
 
 #include <nlohmann/json.hpp>
 

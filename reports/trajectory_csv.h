@@ -3,8 +3,8 @@
 // digits so that it parses back to the same double.
 #pragma once
 
-#include "simulators/state.h"
 #include "platform/atomic_file.h"
+#include "simulators/state.h"
 
 #include <filesystem>
 #include <string>

@@ -1,7 +1,7 @@
 // Calibration: the search finds the mu that minimises divergence, and the
 // scenario file is edited without losing anything else.
-#include "engines/engine.h"
 #include "commands/calibrate/calibrate_pipeline.h"
+#include "engines/engine.h"
 #include "reference/reference_model.h"
 #include "scenarios/loader.h"
 

@@ -2,8 +2,8 @@
 // stream, the stepping loop, failure handling, capability checks.
 #include "engines/engine.h"
 #include "metrics/summary.h"
-#include "simulators/document_clock.h"
 #include "scenarios/loader.h"
+#include "simulators/document_clock.h"
 
 #include <gtest/gtest.h>
 

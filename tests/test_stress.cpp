@@ -1,11 +1,11 @@
 // The stress suite: the invariant checks against deliberately broken
 // simulators, the Monte-Carlo generator, the bundled stress files and the
 // ccd / substeps options they use, and `bouncecheck stress` end to end.
-#include "simulators/simulator.h"
 #include "commands/stress/stress_pipeline.h"
 #include "commands/stress/stress_suite.h"
-#include "scenarios/scenario_toml.h"
 #include "scenarios/loader.h"
+#include "scenarios/scenario_toml.h"
+#include "simulators/simulator.h"
 #include "tests/support/cli.h"
 #include "tests/support/engine_run.h"
 

@@ -8,8 +8,8 @@
 // the reference's sample times, over the whole run.
 #pragma once
 
-#include "simulators/simulator.h"
 #include "scenarios/scenario.h"
+#include "simulators/simulator.h"
 
 #include <filesystem>
 #include <string>

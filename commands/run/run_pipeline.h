@@ -2,9 +2,9 @@
 // and with exact: what `bouncecheck run` does per scenario.
 #pragma once
 
-#include "simulators/simulator.h"
 #include "reports/run_report.h"
 #include "scenarios/scenario.h"
+#include "simulators/simulator.h"
 
 #include <filesystem>
 #include <vector>

@@ -1,21 +1,15 @@
 #include "commands/stress/stress_pipeline.h"
 
-#include "platform/atomic_file.h"
-#include "reports/json_number.h"
 #include "metrics/summary.h"
 #include "platform/parallel_pairs.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <exception>
 #include <limits>
-#include <map>
-#include <set>
-#include <utility>
 
 namespace bouncecheck {
 

@@ -13,7 +13,6 @@
 #include <exception>
 #include <limits>
 #include <string>
-#include <type_traits>
 #include <utility>
 
 namespace bouncecheck {
