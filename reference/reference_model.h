@@ -126,7 +126,7 @@ inline double least_reaching(double size, double reach) {
 }  // namespace detail
 
 // The longest cycle of repeating states a consumer holds in memory to
-// replay instead of stepping (reference/simulators.cpp, the comparison's
+// replay instead of stepping (reference/reference_simulator.cpp, the comparison's
 // lockstep reference); a longer one is stepped to the end.
 inline constexpr std::int64_t kMaxReplayedPeriod = 1 << 16;
 

@@ -1,5 +1,5 @@
 // report.html: report.json's content plus what the plots draw, inlined in one
-// page with the charting library; sweep.html: sweep.json's, likewise. The page script (compare/html/page.js)
+// page with the charting library; sweep.html: sweep.json's, likewise. The page script (reports/html/page.js)
 // builds every plot and table from that data; this file only prepares it.
 #include "reports/run_report.h"
 #include "reports/sweep_report.h"

@@ -53,7 +53,7 @@ std::string to_markdown(const RunReport& report);   // report.md: the same table
 std::string to_junit(const RunReport& report);      // junit.xml: a test case per scenario x simulator x threshold
 std::string bounces_csv(const RunReport& report);   // bounces.csv: scenario,simulator,bounce,t,apex,measured_alpha,measured_beta
 // report.html: one self-contained page (the charting library inlined) with
-// the plots of every scenario that recorded them; see compare/html_report.cpp.
+// the plots of every scenario that recorded them; see reports/html_report.cpp.
 std::string to_html(const RunReport& report);
 // Writes report.json, report.md, junit.xml, bounces.csv and, when the run
 // recorded plots, report.html into out_dir, each atomically.

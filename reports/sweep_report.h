@@ -55,7 +55,7 @@ nlohmann::json sweep_json(const Scenario& s, const SweepResult& r, const nlohman
 std::string format_sweep(const Scenario& s, const SweepResult& r);
 // sweep.html: the work-precision plot (log-log error against cost, one line
 // per engine, the Pareto front marked) and the orders, self-contained like
-// report.html (compare/html_report.cpp).
+// report.html (reports/html_report.cpp).
 std::string sweep_html(const nlohmann::json& sweep);
 // Writes DIR/sweep.csv, DIR/sweep.json and DIR/sweep.html, each atomically.
 void write_sweep(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters,

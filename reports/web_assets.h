@@ -1,5 +1,5 @@
 // The files a self-contained HTML page inlines, embedded in the binary at
-// build time (compare/html/web_assets.S.in): the charting library from
+// build time (reports/html/web_assets.S.in): the charting library from
 // web/package.json's lock file, and the pages' own script and style.
 #pragma once
 
@@ -9,8 +9,8 @@
 namespace bouncecheck {
 
 std::string_view plotly_js();   // plotly.js-dist-min, minified
-std::string_view page_js();     // compare/html/page.js: builds every plot and table from the page's data
-std::string_view page_css();    // compare/html/page.css
+std::string_view page_js();     // reports/html/page.js: builds every plot and table from the page's data
+std::string_view page_css();    // reports/html/page.css
 
 // The page: title, style, the library, the data (JSON) and the page script,
 // each inlined, so that it opens from disk with no request to any server.

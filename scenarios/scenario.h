@@ -26,7 +26,7 @@ struct EngineOptions {
     // Continuous collision detection against the walls; unset keeps the
     // adapter's own choice (docs/engines.md). ODE has none.
     std::optional<bool> ccd;
-    // Engine steps per scenario step, each of dt / substeps (adapters/engine.cpp).
+    // Engine steps per scenario step, each of dt / substeps (engines/engine.cpp).
     int substeps = 1;
 };
 

@@ -28,7 +28,7 @@ struct ContactMask {
 // state k (k = 0 .. count - 1) has the position, velocity and contacts of
 // cycle[k % cycle.size()] and the time t_k = t_{k-1} + dt from t_{-1} =
 // t_before, the document clock's own additions. A simulator hands this over
-// instead of stepping on (see StreamRecorder::on_periodic_tail).
+// instead of stepping on (RunSink::on_periodic_tail).
 struct PeriodicTail {
     std::vector<State> cycle;           // t unused
     std::vector<ContactMask> contacts;  // per cycle state
@@ -66,8 +66,10 @@ struct PeriodicTail {
     };
 };
 
-// Where a simulator's states go when someone wants them all: a trajectory
-// file, or memory (calibration, tests). Runs that need only metrics pass none.
+// Where a run's states go when someone wants them all: a trajectory file,
+// the comparison, the plot, or memory (calibration, tests). The metrics
+// recorder passes each state on to one (metrics/summary.h); runs that need
+// only metrics pass none.
 class StateSink {
 public:
     virtual ~StateSink() = default;

@@ -1,6 +1,6 @@
 // Box2D 2.4.1 (2D only, single precision): the ball is a dynamic circle, the
 // room four static boxes. Every setting that changes the answer is chosen here
-// and reported; see adapters/box2d/box2d_adapter.h for the defaults they replace.
+// and reported; see engines/box2d/box2d_adapter.h for the defaults they replace.
 //
 // How a bounce happens in Box2D 2.4.1 (b2_world.cpp / b2_island.cpp /
 // b2_contact_solver.cpp): Step() first updates contacts (a contact touches when
