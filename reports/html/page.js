@@ -1,6 +1,6 @@
 // The script of report.html and sweep.html. It builds every table and plot
-// from the JSON in #bouncecheck-data (written by compare/html_report.cpp or
-// compare/sweep.cpp) with the inlined Plotly. It asks no server for anything.
+// from the JSON in #bouncecheck-data (written by reports/html_report.cpp or
+// reports/sweep_report.cpp) with the inlined Plotly. It asks no server for anything.
 //
 // Each plot is a div with class "plot" and data-plot-kind; the browser test
 // (web/test/browser-check.mjs) checks each one's trace count against
