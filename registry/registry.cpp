@@ -11,6 +11,12 @@
 #ifdef BOUNCECHECK_WITH_BOX2D
 #include "engines/box2d/box2d_adapter.h"
 #endif
+#ifdef BOUNCECHECK_WITH_MUJOCO
+#include "engines/mujoco/mujoco_adapter.h"
+#endif
+#ifdef BOUNCECHECK_WITH_CHIPMUNK
+#include "engines/chipmunk/chipmunk_adapter.h"
+#endif
 
 namespace bouncecheck {
 
@@ -26,6 +32,12 @@ std::vector<std::unique_ptr<const Simulator>> built_simulators() {
 #endif
 #ifdef BOUNCECHECK_WITH_BOX2D
     all.push_back(make_box2d_simulator());
+#endif
+#ifdef BOUNCECHECK_WITH_MUJOCO
+    all.push_back(make_mujoco_simulator());
+#endif
+#ifdef BOUNCECHECK_WITH_CHIPMUNK
+    all.push_back(make_chipmunk_simulator());
 #endif
     return all;
 }

@@ -1,6 +1,7 @@
 #include "scenarios/loader.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 // toml++ asserts, rather than reports, on some malformed input such as "[[[".
 // Debian's libtomlplusplus, which the build links, has assertions off and
@@ -488,9 +489,12 @@ void read_collision_options(const toml::table& engine, const std::string& path, 
     if (const toml::node* node = c.get(engine, path, "ccd", false)) {
         if (const auto* flag = node->as_boolean()) {
             options.ccd = flag->get();
-            if (name == "ode" && flag->get())
-                c.report(start_of(*node), child_key(path, "ccd"),
-                         "ODE has no continuous collision detection; use substeps instead");
+            static constexpr std::array<std::pair<std::string_view, std::string_view>, 3> kWithoutCcd{
+                {{"ode", "ODE"}, {"mujoco", "MuJoCo"}, {"chipmunk", "Chipmunk"}}};
+            for (const auto& [engine, display] : kWithoutCcd)
+                if (name == engine && flag->get())
+                    c.report(start_of(*node), child_key(path, "ccd"),
+                             fmt::format("{} has no continuous collision detection; use substeps instead", display));
         } else {
             c.report(start_of(*node), child_key(path, "ccd"), fmt::format("expected a boolean, got {}", type_name(*node)));
         }
@@ -505,7 +509,7 @@ void read_collision_options(const toml::table& engine, const std::string& path, 
 // every engine bouncecheck knows, built or not, so a file validates the same
 // on every build.
 std::map<std::string, EngineOptions> read_engines(const toml::table& root, Checker& c) {
-    static constexpr std::array<std::string_view, 3> kEngines{"bullet", "ode", "box2d"};
+    static constexpr std::array<std::string_view, 5> kEngines{"bullet", "ode", "box2d", "mujoco", "chipmunk"};
     std::map<std::string, EngineOptions> engines;
     const toml::table* table = c.optional_table(root, "", "engines");
     if (!table) return engines;
@@ -543,7 +547,7 @@ std::map<std::string, EngineOptions> read_engines(const toml::table& root, Check
     }
     for (const auto& [key, node] : *table) {
         if (std::find(kEngines.begin(), kEngines.end(), key.str()) != kEngines.end()) continue;
-        c.report(start_of(key), child_key("engines", key.str()), "unknown engine (known: bullet, ode, box2d)");
+        c.report(start_of(key), child_key("engines", key.str()), fmt::format("unknown engine (known: {})", fmt::join(kEngines, ", ")));
         c.get(*table, "engines", key.str(), false);  // reported here, not again as an unknown key
     }
     return engines;
@@ -589,7 +593,8 @@ ThresholdSet read_threshold_set(const toml::table& table, const std::string& pat
 // one. Simulator names are checked against every simulator bouncecheck
 // knows, built or not, so a file validates the same on every build.
 Thresholds read_thresholds(const toml::table& root, Checker& c) {
-    static constexpr std::array<std::string_view, 5> kSimulators{"reference", "exact", "bullet", "ode", "box2d"};
+    static constexpr std::array<std::string_view, 7> kSimulators{"reference", "exact", "bullet", "ode",
+                                                                 "box2d",     "mujoco", "chipmunk"};
     Thresholds thresholds;
     const toml::table* table = c.optional_table(root, "", "thresholds");
     if (!table) return thresholds;
@@ -610,7 +615,7 @@ Thresholds read_thresholds(const toml::table& root, Checker& c) {
             std::find(kSimulators.begin(), kSimulators.end(), key.str()) != kSimulators.end())
             continue;
         c.report(start_of(key), child_key("thresholds", key.str()),
-                 "unknown simulator (known: reference, exact, bullet, ode, box2d)");
+                 fmt::format("unknown simulator (known: {})", fmt::join(kSimulators, ", ")));
         c.get(*table, "thresholds", key.str(), false);  // reported here, not again as an unknown key
     }
     return thresholds;

@@ -15,7 +15,7 @@ PACKAGES=(
   build-essential cmake pkg-config
   libeigen3-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libfmt-dev libtbb-dev
   libgtest-dev libbenchmark-dev
-  libbullet-dev libode-dev libbox2d-dev
+  libbullet-dev libode-dev libbox2d-dev libmujoco-dev libchipmunk-dev
 )
 # Node.js and npm install the charting library the HTML pages inline
 # (web/package-lock.json; every package in it accepts Debian 12's Node 18 and

@@ -386,7 +386,9 @@ TEST(StressOptions, BadValuesAreLocated) {
         std::string table, key, reason;
         int column;
     };
-    for (const Case& c : {Case{"[engines.ode]\nccd = true\n", "engines.ode.ccd", "no continuous collision", 7},
+    for (const Case& c : {Case{"[engines.ode]\nccd = true\n", "engines.ode.ccd", "ODE has no continuous collision", 7},
+                          Case{"[engines.mujoco]\nccd = true\n", "engines.mujoco.ccd", "MuJoCo has no continuous", 7},
+                          Case{"[engines.chipmunk]\nccd = true\n", "engines.chipmunk.ccd", "Chipmunk has no continuous", 7},
                           Case{"[engines.bullet]\nccd = \"yes\"\n", "engines.bullet.ccd", "expected a boolean", 7},
                           Case{"[engines.box2d]\nsubsteps = 0\n", "engines.box2d.substeps", "within [1, 1000]", 12},
                           Case{"[engines.box2d]\nsubsteps = 2.0\n", "engines.box2d.substeps", "expected an integer", 12}}) {
