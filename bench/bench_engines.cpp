@@ -24,6 +24,12 @@
 #ifdef BOUNCECHECK_WITH_BOX2D
 #include "engines/box2d/box2d_adapter.h"
 #endif
+#ifdef BOUNCECHECK_WITH_MUJOCO
+#include "engines/mujoco/mujoco_adapter.h"
+#endif
+#ifdef BOUNCECHECK_WITH_CHIPMUNK
+#include "engines/chipmunk/chipmunk_adapter.h"
+#endif
 
 #include <benchmark/benchmark.h>
 
@@ -128,6 +134,12 @@ std::vector<EngineCase> engine_cases() {
 #endif
 #ifdef BOUNCECHECK_WITH_BOX2D
     cases.push_back({"box2d", "seed-2d.toml", box2d::make_simulator(box2d::Tuning{})});
+#endif
+#ifdef BOUNCECHECK_WITH_MUJOCO
+    cases.push_back({"mujoco", "seed-3d.toml", mujoco::make_simulator(mujoco::Tuning::chosen())});
+#endif
+#ifdef BOUNCECHECK_WITH_CHIPMUNK
+    cases.push_back({"chipmunk", "seed-2d.toml", chipmunk::make_simulator(chipmunk::Tuning{})});
 #endif
     return cases;
 }
