@@ -6,6 +6,7 @@
 #include "exact/exact_model.h"
 #include "scenarios/loader.h"
 #include "tests/support/engine_run.h"
+#include "tests/support/engine_tests.h"
 
 #include <gtest/gtest.h>
 
@@ -19,14 +20,9 @@ namespace {
 
 using bullet::Stepping;
 using bullet::Tuning;
+using test::setting;
 
-// The bundled file's [engines] tables (calibrated friction) are dropped: each
-// test sets the engine options it is about.
-Scenario seed(const std::string& file) {
-    Scenario s = load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/" + file);
-    s.engines.clear();
-    return s;
-}
+Scenario seed(const std::string& file) { return test::bundled_seed(file); }
 
 // The seed with another dt and duration; per_contact selects the document's
 // tangential semantics (beta at each contact) instead of friction.
@@ -48,12 +44,6 @@ Scenario drop(double height, double dt, double duration) {
     s.position = Vec3(0.5, 0.5, s.radius + height);
     s.velocity = Vec3::Zero();
     return variant(s, dt, duration, true);
-}
-
-std::string setting(const SimulatorSummary& summary, const std::string& key) {
-    for (const auto& st : summary.settings)
-        if (st.key == key) return st.value;
-    return "<missing " + key + ">";
 }
 
 // Steps the world directly (the same world run() builds), one state per step.

@@ -9,6 +9,7 @@
 #include "scenarios/loader.h"
 #include "tests/support/cli.h"
 #include "tests/support/engine_run.h"
+#include "tests/support/engine_tests.h"
 
 #include <chipmunk/chipmunk.h>
 #include <gtest/gtest.h>
@@ -26,58 +27,16 @@ namespace bouncecheck {
 namespace {
 
 namespace fs = std::filesystem;
+using test::FloorHit;
+using test::floor_hits;
+using test::setting;
+using test::setting_why;
+using ChipmunkRun = test::SimulatorRun;
 
-// The bundled file's [engines] tables (calibrated friction) are dropped: each
-// test sets the engine options it is about.
-Scenario seed(const char* name) {
-    Scenario s = load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/" + name);
-    s.engines.clear();
-    return s;
-}
-
-struct ChipmunkRun {
-    SimulatorSummary summary;
-    std::vector<State> states;
-};
+Scenario seed(const char* name) { return test::bundled_seed(name); }
 
 ChipmunkRun run_chipmunk(const Scenario& s, const chipmunk::Tuning& tuning = {}) {
-    const auto sim = chipmunk::make_simulator(tuning);
-    StateVector sink;
-    ChipmunkRun r;
-    r.summary = record_run(*sim, s, &sink);
-    r.states = std::move(sink.states);
-    return r;
-}
-
-// A floor contact seen in the stream (the framework's detector rule for the
-// floor): the samples just before and just after it.
-struct FloorHit {
-    State before, after;
-    double restitution() const { return -after.v.y() / before.v.y(); }
-    double min_height() const { return std::min(before.p.y(), after.p.y()); }
-};
-
-std::vector<FloorHit> floor_hits(const std::vector<State>& st, double r) {
-    std::vector<FloorHit> out;
-    for (std::size_t i = 1; i < st.size(); ++i) {
-        const State& a = st[i - 1];
-        const State& b = st[i];
-        const double reach = std::abs(a.v.y()) * (b.t - a.t) + 0.1 * r;
-        if (a.v.y() < 0 && b.v.y() >= 0 && b.p.y() - r <= reach) out.push_back({a, b});
-    }
-    return out;
-}
-
-std::string setting(const SimulatorSummary& s, const std::string& key) {
-    for (const auto& kv : s.settings)
-        if (kv.key == key) return kv.value;
-    return "<missing " + key + ">";
-}
-
-std::string setting_why(const SimulatorSummary& s, const std::string& key) {
-    for (const auto& kv : s.settings)
-        if (kv.key == key) return kv.why;
-    return "<missing " + key + ">";
+    return test::record_states(*chipmunk::make_simulator(tuning), s);
 }
 
 EngineOptions per_contact_options() {

@@ -8,6 +8,7 @@
 #include "scenarios/loader.h"
 #include "tests/support/cli.h"
 #include "tests/support/engine_run.h"
+#include "tests/support/engine_tests.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -27,6 +28,7 @@ namespace {
 namespace fs = std::filesystem;
 using mujoco::ContactLaw;
 using mujoco::Tuning;
+using test::setting;
 
 // The bundled file's [engines] tables are dropped: each test sets the engine
 // options it is about.
@@ -47,12 +49,6 @@ Scenario variant(Scenario s, double dt, double duration, bool per_contact) {
     s.duration = duration;
     if (per_contact) s.engines["mujoco"] = per_contact_options();
     return s;
-}
-
-std::string setting(const std::vector<Setting>& settings, const std::string& key) {
-    for (const auto& st : settings)
-        if (st.key == key) return st.value;
-    return "<missing " + key + ">";
 }
 
 // Runs through the simulator's real run() (the shared loop), keeping every state.

@@ -7,6 +7,7 @@
 #include "metrics/summary.h"
 #include "scenarios/loader.h"
 #include "tests/support/engine_run.h"
+#include "tests/support/engine_tests.h"
 
 #include <gtest/gtest.h>
 
@@ -21,6 +22,7 @@ namespace bouncecheck {
 namespace {
 
 using ode::Tuning;
+using test::setting;
 
 Scenario seed(int dim) {
     // The bundled file's [engines] tables (calibrated friction) are dropped:
@@ -104,17 +106,6 @@ std::vector<WallContact> exact_floor_contacts(const Scenario& s, const ExactMode
     for (const WallContact& c : exact.contacts())
         if (c.axis == s.vertical_axis() && c.side < 0) out.push_back(c);
     return out;
-}
-
-const Setting* find_setting(const SimulatorSummary& summary, const std::string& key) {
-    for (const auto& st : summary.settings)
-        if (st.key == key) return &st;
-    return nullptr;
-}
-
-std::string setting(const SimulatorSummary& summary, const std::string& key) {
-    const auto* st = find_setting(summary, key);
-    return st ? st->value : "<missing " + key + ">";
 }
 
 double max_speed(const std::vector<State>& states) {
