@@ -177,9 +177,12 @@ TEST(StressInvariants, SlowDownLateInTheRunIsCaught) {
     EXPECT_FALSE(cost.held);
     EXPECT_GT(cost.worst, kCostRatioLimit);
     ASSERT_TRUE(cost.first_t);
-    // The block that holds step 6000 starts at t = 0.5888; on a loaded machine a
-    // preempted earlier block can be flagged first, so only the bound is tested.
-    EXPECT_LE(*cost.first_t, 0.6);
+    // The block that holds step 6000 starts at t = 0.5888, but only 144 of its
+    // 256 steps are slow: whether it passes 4x the early cost depends on how
+    // cheap a fast step is (under AddressSanitizer it often does not), so the
+    // first wholly slow block, from step 6144 (t = 0.6144), is the bound. On a
+    // loaded machine a preempted earlier block can be flagged first.
+    EXPECT_LE(*cost.first_t, 0.6145);
 }
 
 TEST(StressInvariants, RunOverItsBudgetIsStopped) {
