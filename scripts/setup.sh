@@ -16,6 +16,10 @@ PACKAGES=(
   libeigen3-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libfmt-dev libtbb-dev
   libgtest-dev libbenchmark-dev
   libbullet-dev libode-dev libbox2d-dev libmujoco-dev libchipmunk-dev
+  # Debian's mujocoConfig.cmake calls find_dependency(OpenGL), which needs the GL
+  # headers and libOpenGL/libGLX development links, but libmujoco-dev does not
+  # depend on them. bouncecheck never draws; these only let CMake load MuJoCo.
+  libgl-dev libopengl-dev
 )
 # Node.js and npm install the charting library the HTML pages inline
 # (web/package-lock.json; every package in it accepts Debian 12's Node 18 and
