@@ -17,6 +17,12 @@
 #ifdef BOUNCECHECK_WITH_CHIPMUNK
 #include "engines/chipmunk/chipmunk_adapter.h"
 #endif
+#ifdef BOUNCECHECK_WITH_SICONOS
+#include "engines/siconos/siconos_adapter.h"
+#endif
+#ifdef BOUNCECHECK_WITH_DART
+#include "engines/dart/dart_adapter.h"
+#endif
 
 namespace bouncecheck {
 
@@ -38,6 +44,13 @@ std::vector<std::unique_ptr<const Simulator>> built_simulators() {
 #endif
 #ifdef BOUNCECHECK_WITH_CHIPMUNK
     all.push_back(make_chipmunk_simulator());
+#endif
+#ifdef BOUNCECHECK_WITH_SICONOS
+    all.push_back(make_siconos_simulator());
+    all.push_back(make_siconos_event_driven_simulator());
+#endif
+#ifdef BOUNCECHECK_WITH_DART
+    all.push_back(make_dart_simulator());
 #endif
     return all;
 }

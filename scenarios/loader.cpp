@@ -489,8 +489,13 @@ void read_collision_options(const toml::table& engine, const std::string& path, 
     if (const toml::node* node = c.get(engine, path, "ccd", false)) {
         if (const auto* flag = node->as_boolean()) {
             options.ccd = flag->get();
-            static constexpr std::array<std::pair<std::string_view, std::string_view>, 3> kWithoutCcd{
-                {{"ode", "ODE"}, {"mujoco", "MuJoCo"}, {"chipmunk", "Chipmunk"}}};
+            static constexpr std::array<std::pair<std::string_view, std::string_view>, 6> kWithoutCcd{
+                {{"ode", "ODE"},
+                 {"mujoco", "MuJoCo"},
+                 {"chipmunk", "Chipmunk"},
+                 {"siconos", "Siconos"},
+                 {"siconos-ed", "Siconos"},
+                 {"dart", "DART"}}};
             for (const auto& [engine, display] : kWithoutCcd)
                 if (name == engine && flag->get())
                     c.report(start_of(*node), child_key(path, "ccd"),
@@ -509,7 +514,8 @@ void read_collision_options(const toml::table& engine, const std::string& path, 
 // every engine bouncecheck knows, built or not, so a file validates the same
 // on every build.
 std::map<std::string, EngineOptions> read_engines(const toml::table& root, Checker& c) {
-    static constexpr std::array<std::string_view, 5> kEngines{"bullet", "ode", "box2d", "mujoco", "chipmunk"};
+    static constexpr std::array<std::string_view, 8> kEngines{"bullet",   "ode",     "box2d",      "mujoco",
+                                                              "chipmunk", "siconos", "siconos-ed", "dart"};
     std::map<std::string, EngineOptions> engines;
     const toml::table* table = c.optional_table(root, "", "engines");
     if (!table) return engines;
@@ -593,8 +599,8 @@ ThresholdSet read_threshold_set(const toml::table& table, const std::string& pat
 // one. Simulator names are checked against every simulator bouncecheck
 // knows, built or not, so a file validates the same on every build.
 Thresholds read_thresholds(const toml::table& root, Checker& c) {
-    static constexpr std::array<std::string_view, 7> kSimulators{"reference", "exact", "bullet", "ode",
-                                                                 "box2d",     "mujoco", "chipmunk"};
+    static constexpr std::array<std::string_view, 10> kSimulators{
+        "reference", "exact", "bullet", "ode", "box2d", "mujoco", "chipmunk", "siconos", "siconos-ed", "dart"};
     Thresholds thresholds;
     const toml::table* table = c.optional_table(root, "", "thresholds");
     if (!table) return thresholds;

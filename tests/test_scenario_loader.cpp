@@ -377,7 +377,7 @@ TEST(ScenarioLoaderInvalid, ThresholdTableRejectsUnknownKeys) {
 
 TEST(ScenarioLoaderInvalid, ThresholdUnknownSimulator) {
     EXPECT_TRUE(single_error(std::string(kValid) + "[thresholds.warp]\ntrajectory_rms = 0.1\n", "thresholds.warp", 16,
-                             13, "unknown simulator (known: reference, exact, bullet, ode, box2d, mujoco, chipmunk)"));
+                             13, "unknown simulator (known: reference, exact, bullet, ode, box2d, mujoco, chipmunk, siconos, siconos-ed, dart)"));
     EXPECT_TRUE(single_error(std::string(kValid) + "[thresholds]\nBullet = {trajectory_rms = 0.1}\n",
                              "thresholds.Bullet", 17, 1, "unknown simulator"));
 }
