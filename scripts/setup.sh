@@ -2,7 +2,8 @@
 # Brings a fresh Debian 12 machine to a built bouncecheck: installs the Debian
 # packages that are missing, configures and builds into build/ (or $BUILD_DIR).
 # Run by scripts/run.sh, test.sh and sanitize.sh; arguments go to the CMake
-# configure step (e.g. -DBOUNCECHECK_WITH_ODE=OFF). Safe to run again.
+# configure step (e.g. -DBOUNCECHECK_WITH_DART=OFF, which also skips DART's
+# packages: a lean build). Safe to run again.
 # WITH_BROWSER=1 (scripts/test.sh sets it) also installs Debian's chromium for
 # the test that opens the HTML pages in a real browser.
 set -euo pipefail
@@ -15,12 +16,32 @@ PACKAGES=(
   build-essential cmake pkg-config
   libeigen3-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libfmt-dev libtbb-dev
   libgtest-dev libbenchmark-dev
-  libbullet-dev libode-dev libbox2d-dev libmujoco-dev libchipmunk-dev
-  # Debian's mujocoConfig.cmake calls find_dependency(OpenGL), which needs the GL
-  # headers and libOpenGL/libGLX development links, but libmujoco-dev does not
-  # depend on them. bouncecheck never draws; these only let CMake load MuJoCo.
-  libgl-dev libopengl-dev
 )
+# Each engine's packages, left out when its CMake option is off: given here
+# (-DBOUNCECHECK_WITH_DART=OFF) or kept in the build's cache from an earlier
+# configure, so a lean build installs none of what it does not build.
+declare -A ENGINE_PACKAGES=(
+  [BULLET]="libbullet-dev" [ODE]="libode-dev" [BOX2D]="libbox2d-dev" [CHIPMUNK]="libchipmunk-dev"
+  # Debian's mujocoConfig.cmake calls find_dependency(OpenGL), which needs the
+  # GL headers and the libOpenGL/libGLX links, but libmujoco-dev does not
+  # depend on them. bouncecheck never draws; they only let CMake load MuJoCo.
+  [MUJOCO]="libmujoco-dev libgl-dev libopengl-dev"
+  # DART 6.12, core only. About 175 packages on a fresh root (Boost, OpenMPI, gfortran).
+  [DART]="libdart-dev"
+)
+engine_enabled() {
+  local option="BOUNCECHECK_WITH_$1" arg
+  shift
+  for arg in "$@"; do
+    [[ "$arg" =~ ^-D${option}(:BOOL)?=(OFF|0|FALSE|NO)$ ]] && return 1
+    [[ "$arg" =~ ^-D${option}(:BOOL)?= ]] && return 0
+  done
+  ! grep -qE "^${option}:BOOL=(OFF|0|FALSE|NO)$" "$BUILD_DIR/CMakeCache.txt" 2>/dev/null
+}
+for engine in "${!ENGINE_PACKAGES[@]}"; do
+  # shellcheck disable=SC2206  # the value is a space-separated package list
+  engine_enabled "$engine" "$@" && PACKAGES+=(${ENGINE_PACKAGES[$engine]})
+done
 # Node.js and npm install the charting library the HTML pages inline
 # (web/package-lock.json; every package in it accepts Debian 12's Node 18 and
 # npm 9, and web/.npmrc makes npm refuse one that does not). A machine that

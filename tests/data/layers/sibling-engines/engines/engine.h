@@ -1,0 +1,2 @@
+// What every engine shares: any engine may include it.
+#pragma once

@@ -1,0 +1,3 @@
+// An engine's own header.
+#pragma once
+#include "engines/engine.h"
