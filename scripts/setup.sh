@@ -26,6 +26,8 @@ declare -A ENGINE_PACKAGES=(
   # GL headers and the libOpenGL/libGLX links, but libmujoco-dev does not
   # depend on them. bouncecheck never draws; they only let CMake load MuJoCo.
   [MUJOCO]="libmujoco-dev libgl-dev libopengl-dev"
+  # Siconos 4.4's kernel and numerics (about 55 packages on a fresh root, SuiteSparse and Boost's headers).
+  [SICONOS]="libsiconos-kernel-dev"
   # DART 6.12, core only. About 175 packages on a fresh root (Boost, OpenMPI, gfortran).
   [DART]="libdart-dev"
 )

@@ -40,7 +40,11 @@ int command_calibrate(const CalibrateOptions& opt) {
                    opt.file, opt.engine);
         return kBadInput;
     }
-    if (auto why = (*it)->cannot_run(s)) {
+    // Asked at the largest mu the search tries: an engine may run a scenario
+    // frictionless but refuse Coulomb friction (siconos-ed).
+    Scenario with_friction = s;
+    with_friction.engines[opt.engine].friction = opt.max_mu;
+    if (auto why = (*it)->cannot_run(with_friction)) {
         fmt::print(stderr, "error: {}: {}\n", opt.file, *why);
         return kBadInput;
     }
