@@ -28,6 +28,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::FloorHit;
+using test::first_exact_floor_contact;
 using test::floor_hits;
 using test::setting;
 using test::setting_why;
@@ -48,12 +49,6 @@ EngineOptions per_contact_options() {
 Scenario with_per_contact(Scenario s) {
     s.engines["chipmunk"] = per_contact_options();
     return s;
-}
-
-double first_exact_floor_contact(const ExactModel& exact) {
-    for (const WallContact& c : exact.contacts())
-        if (c.axis == 1 && c.side < 0) return c.t;
-    return -1;
 }
 
 // A drop with a floor contact first: centre at 0.5, moving sideways at 0.1.
@@ -213,7 +208,7 @@ TEST(ChipmunkVsExact, FirstFloorContactApexesAndRestitution) {
 
     const auto hits = floor_hits(r.states, s.radius);
     ASSERT_GE(hits.size(), 3u);
-    const double t_exact = first_exact_floor_contact(exact);
+    const double t_exact = first_exact_floor_contact(exact, 1);
     ASSERT_GT(t_exact, 0);
     // The first sample after the contact: the step that carries the ball into
     // the floor bounces it, so it lies within one step of exact's contact

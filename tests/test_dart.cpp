@@ -30,6 +30,8 @@ namespace fs = std::filesystem;
 using dartsim::Detector;
 using dartsim::Tuning;
 using test::setting;
+using test::first_exact_floor_contact;
+using test::first_floor_event;
 
 Scenario seed(const char* file) { return test::bundled_seed(file); }
 
@@ -68,18 +70,6 @@ Probe probe(const Scenario& s, const Tuning& tuning = {}, long steps = -1) {
     }
     out.stats = world->stats();
     return out;
-}
-
-double first_exact_floor_contact(const ExactModel& m, int z) {
-    for (const WallContact& c : m.contacts())
-        if (c.axis == z && c.side < 0) return c.t;
-    return -1;
-}
-
-std::optional<double> first_floor_event(const SimulatorSummary& r, int z) {
-    for (const ContactEvent& e : r.contact_events)
-        if (e.axis == z && e.side < 0) return e.t;
-    return std::nullopt;
 }
 
 // Largest relative error of the first n apex heights against exact's

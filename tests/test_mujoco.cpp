@@ -29,6 +29,8 @@ namespace fs = std::filesystem;
 using mujoco::ContactLaw;
 using mujoco::Tuning;
 using test::setting;
+using test::first_exact_floor_contact;
+using test::first_floor_event;
 
 // The bundled file's [engines] tables are dropped: each test sets the engine
 // options it is about.
@@ -103,18 +105,6 @@ std::vector<Bounce> floor_bounces(const Scenario& s, const std::vector<State>& s
             states[k].p[z] - s.radius <= -states[k - 1].v[z] * s.dt + 0.1 * s.radius)
             out.push_back({states[k - 1], states[k]});
     return out;
-}
-
-double first_exact_floor_contact(const ExactModel& m, int z) {
-    for (const WallContact& c : m.contacts())
-        if (c.axis == z && c.side < 0) return c.t;
-    return -1;
-}
-
-std::optional<double> first_floor_event(const SimulatorSummary& r, int z) {
-    for (const ContactEvent& e : r.contact_events)
-        if (e.axis == z && e.side < 0) return e.t;
-    return std::nullopt;
 }
 
 // A ball at rest `height` above touching the floor of seed-3d's room.

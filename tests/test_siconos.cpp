@@ -31,6 +31,8 @@ namespace {
 namespace fs = std::filesystem;
 using siconos::Tuning;
 using test::setting;
+using test::first_exact_floor_contact;
+using test::first_floor_event;
 
 Scenario seed(const char* name) { return test::bundled_seed(name); }
 
@@ -65,18 +67,6 @@ Distance distance_from_exact(const Scenario& s, const std::vector<State>& states
         if (e > d.max) d = {e, st.t};
     }
     return d;
-}
-
-double first_exact_floor_contact(const ExactModel& exact, int z) {
-    for (const WallContact& c : exact.contacts())
-        if (c.axis == z && c.side < 0) return c.t;
-    return -1;
-}
-
-std::optional<double> first_floor_event(const SimulatorSummary& r, int z) {
-    for (const ContactEvent& e : r.contact_events)
-        if (e.axis == z && e.side < 0) return e.t;
-    return std::nullopt;
 }
 
 // A drop onto the floor of seed-2d's or seed-3d's room while moving sideways, with Coulomb friction mu.

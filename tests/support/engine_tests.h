@@ -1,8 +1,10 @@
 // What the engine test files (tests/test_<engine>.cpp) share: the bundled
 // seeds without their engine tables, a run with every state kept, a setting
-// as reported, and the floor contacts of a 2D run.
+// as reported, the floor contacts of a 2D run, and the first floor contact
+// of a run and of exact.
 #pragma once
 
+#include "exact/exact_model.h"
 #include "metrics/summary.h"
 #include "scenarios/loader.h"
 #include "simulators/simulator.h"
@@ -10,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -66,6 +69,20 @@ inline std::vector<FloorHit> floor_hits(const std::vector<State>& st, double r) 
         if (a.v.y() < 0 && b.v.y() >= 0 && b.p.y() - r <= reach) out.push_back({a, b});
     }
     return out;
+}
+
+// The time of exact's first contact with the floor (vertical axis z, lower side); -1 if none.
+inline double first_exact_floor_contact(const ExactModel& exact, int z) {
+    for (const WallContact& c : exact.contacts())
+        if (c.axis == z && c.side < 0) return c.t;
+    return -1;
+}
+
+// The time of the first floor contact a run's stream showed.
+inline std::optional<double> first_floor_event(const SimulatorSummary& r, int z) {
+    for (const ContactEvent& e : r.contact_events)
+        if (e.axis == z && e.side < 0) return e.t;
+    return std::nullopt;
 }
 
 }  // namespace bouncecheck::test
