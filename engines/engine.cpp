@@ -85,8 +85,9 @@ EngineSimulator::SteppedWorld EngineSimulator::build_stepped_world(
     return out;
 }
 
-std::optional<std::string_view> EngineSimulator::serial_reason() const {
-    const std::string& why = capabilities().serial_reason;
+// A copy: capabilities() returns a temporary, so a view of its string would dangle.
+std::optional<std::string> EngineSimulator::serial_reason() const {
+    std::string why = capabilities().serial_reason;
     if (why.empty()) return std::nullopt;
     return why;
 }

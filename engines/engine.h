@@ -111,7 +111,7 @@ public:
     std::optional<std::string> cannot_run(const Scenario& s) const override;
     RunOutcome run(const Scenario& s, RunSink& sink) const final;
     bool third_party() const final { return true; }
-    std::optional<std::string_view> serial_reason() const final;
+    std::optional<std::string> serial_reason() const final;
 
     virtual EngineCapabilities capabilities() const = 0;
 

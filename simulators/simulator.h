@@ -92,7 +92,7 @@ public:
     virtual bool third_party() const { return false; }
     // Why two runs of this simulator must not step at the same time (a
     // library with unsynchronised global state), or nothing if they may.
-    virtual std::optional<std::string_view> serial_reason() const { return std::nullopt; }
+    virtual std::optional<std::string> serial_reason() const { return std::nullopt; }
 };
 
 // Keeps every state in memory.

@@ -208,7 +208,13 @@ void Model::build(const ModelSpec& spec) {
     e.gap_limit_ticks = m.sim->eventsManager()->getGapLimitEvents();
 }
 
-Model::~Model() = default;
+// Siconos 4.4's integrators and nonsmooth problems hold a shared_ptr to their
+// Simulation, which holds them in maps: without Simulation::clear() (meant for
+// the Model class 4.4 no longer has) nothing a world built is ever freed
+// (LeakSanitizer: tens of KB per world).
+Model::~Model() {
+    if (impl_ && impl_->sim) impl_->sim->clear();
+}
 
 void Model::compute_step() {
     guarded([&] { impl_->ts->computeOneStep(); });
