@@ -10,6 +10,12 @@
 
 namespace bouncecheck {
 
+double max_ball_speed(const Scenario& s) {
+    double v2 = s.velocity.squaredNorm();
+    for (int i = 0; i < s.dim; ++i) v2 += 2 * std::abs(s.gravity[i]) * s.room[i];
+    return std::sqrt(v2);
+}
+
 std::vector<Wall> room_walls(const Scenario& s) {
     std::vector<Wall> walls;
     for (int axis = 0; axis < s.dim; ++axis) {

@@ -51,6 +51,11 @@ struct Wall {
 };
 std::vector<Wall> room_walls(const Scenario& s);
 
+// The fastest the ball can ever move: its start speed plus the whole room to
+// fall along every axis (the law never adds energy). Adapters size thick
+// walls, unit scales and contact stiffness from it.
+double max_ball_speed(const Scenario& s);
+
 // The law's contact condition for the per-contact hooks, at a wall the ball
 // has just started touching (side -1 lower, +1 upper; normal components
 // along the wall's axis): the ball moves into the wall, or rests against it

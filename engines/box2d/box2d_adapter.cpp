@@ -190,9 +190,7 @@ public:
 
         // The largest speed the ball can reach: its energy with the whole
         // room's height to fall (the law never adds energy).
-        double v2 = s.velocity.squaredNorm();
-        for (int i = 0; i < 2; ++i) v2 += 2 * std::abs(s.gravity[i]) * s.room[i];
-        const double max_move = scale.to_engine_velocity(std::sqrt(v2)) * scale.to_engine_time(s.dt);
+        const double max_move = scale.to_engine_velocity(max_ball_speed(s)) * scale.to_engine_time(s.dt);
 
         auto set = [&](std::string key, std::string value, std::string why) {
             settings.push_back({std::move(key), std::move(value), std::move(why)});

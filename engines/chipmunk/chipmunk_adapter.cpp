@@ -158,9 +158,7 @@ public:
         // the whole room to fall, the law never adds energy), or the ball
         // would be pushed out of the room and lost.
         const double size[2] = {s.room.x(), s.room.y()};
-        double v2 = s.velocity.squaredNorm();
-        for (int i = 0; i < 2; ++i) v2 += 2 * std::abs(s.gravity[i]) * s.room[i];
-        const double max_step = std::sqrt(v2) * dt_;
+        const double max_step = max_ball_speed(s) * dt_;
         const double radius =
             t.wall_radius > 0 ? t.wall_radius : std::max(std::max(size[0], size[1]) / 2, 2 * max_step);
         const double shift = t.compensate_wall_radius ? radius : 0.0;

@@ -74,9 +74,7 @@ double length_scale_for(const Scenario& s, const Tuning& t) {
     double scale = t.max_length_scale;
     if (rest_hop > 0) scale = std::min(scale, kBouncingVelocityThreshold / (t.rest_margin * rest_hop));
     // The fastest bounce (the energy bound) must stay below DART's cap of 100.
-    double v2 = s.velocity.squaredNorm();
-    for (int i = 0; i < s.dim; ++i) v2 += 2 * std::abs(s.gravity[i]) * s.room[i];
-    const double v_max = std::sqrt(v2);
+    const double v_max = max_ball_speed(s);
     if (v_max > 0) scale = std::min(scale, kMaxBouncingVelocity / (2 * v_max));
     return scale;
 }
@@ -120,9 +118,7 @@ public:
         // wall, thick enough that one step cannot carry the ball's centre
         // through it (twice the largest step the law allows, at least half
         // the room's larger side), long enough to run past the corners.
-        double v2 = s.velocity.squaredNorm();
-        for (int i = 0; i < s.dim; ++i) v2 += 2 * std::abs(s.gravity[i]) * s.room[i];
-        const double max_step = std::sqrt(v2) * s.dt;
+        const double max_step = max_ball_speed(s) * s.dt;
         const double largest_side = std::max({s.room.x(), s.room.y(), s.dim == 3 ? s.room.z() : 0.0});
         wall_thickness_ = std::max(largest_side / 2, 2 * max_step);
         auto room = dd::Skeleton::create("room");

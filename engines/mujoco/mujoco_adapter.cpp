@@ -173,9 +173,7 @@ SpringRestitution spring_restitution(double omega_dt, double damping_dt) {
 
 ContactParameters contact_parameters(const Scenario& s, const Tuning& t) {
     ContactParameters c;
-    double v2 = s.velocity.squaredNorm();
-    for (int i = 0; i < s.dim; ++i) v2 += 2 * std::abs(s.gravity[i]) * s.room[i];
-    c.v_max = std::sqrt(v2);
+    c.v_max = max_ball_speed(s);
     const double d = impedance(t);
     const double inverse_mass_ratio = s.dim == 3 ? 1.0 : 2.0 / 3.0;  // A~ / A, see the header
     c.impedance_factor = t.correct_for_impedance ? 1 / (d + (1 - d) * inverse_mass_ratio) : 1.0;

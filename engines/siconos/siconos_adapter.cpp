@@ -41,7 +41,7 @@ namespace {
 using siconos_model::Model;
 using siconos_model::ModelSpec;
 using siconos_model::Scheme;
-using siconos_model::WallStatus;
+using WallStatuses = siconos_model::Model::WallStatuses;
 
 constexpr const char* kTimeSteppingName = "siconos";
 constexpr const char* kEventDrivenName = "siconos-ed";
@@ -131,7 +131,7 @@ private:
         const auto v_start = model_.velocity();
         model_.compute_step();
         if (per_contact_) {
-            const std::vector<WallStatus> walls = model_.walls();
+            const WallStatuses walls = model_.walls();
             auto p = model_.position();
             auto v = model_.velocity();
             bool scaled = false;
@@ -179,7 +179,7 @@ private:
             const bool root = model_.advance_to_event();
             if (tuning_.zeno_limit && root) close_accumulation();
             const auto v_pre = model_.velocity();
-            const std::vector<WallStatus> before = model_.walls();
+            const WallStatuses before = model_.walls();
             model_.process_events();
             // Impacts happen at roots, and at t = 0 when the ball starts
             // touching a wall (EventDriven schedules an event there). A
@@ -202,7 +202,7 @@ private:
     // _TOL_ED, which its hops never reach under stronger gravity (g = 1 m/s^2,
     // alpha 0.5: they cycle at 2.2e-10 m/s, 7e-10 s apart, for good).
     void close_accumulation() {
-        const std::vector<WallStatus> walls = model_.walls();
+        const WallStatuses walls = model_.walls();
         auto v = model_.velocity();
         bool closed = false;
         for (std::size_t w = 0; w < walls_.size(); ++w) {
@@ -230,8 +230,8 @@ private:
     // An impact is a wall the ball touches after the event that it was moving
     // into before it (strictly: a ball at rest against a wall from the start
     // makes no impact, Siconos keeps it in persistent contact, as exact does).
-    void apply_beta_at_event(const std::array<double, 3>& v_pre, const std::vector<WallStatus>& before) {
-        const std::vector<WallStatus> after = model_.walls();
+    void apply_beta_at_event(const std::array<double, 3>& v_pre, const WallStatuses& before) {
+        const WallStatuses after = model_.walls();
         const auto p = model_.position();
         auto v = model_.velocity();
         bool scaled = false;

@@ -209,9 +209,9 @@ void Model::build(const ModelSpec& spec) {
 }
 
 // Siconos 4.4's integrators and nonsmooth problems hold a shared_ptr to their
-// Simulation, which holds them in maps: without Simulation::clear() (meant for
-// the Model class 4.4 no longer has) nothing a world built is ever freed
-// (LeakSanitizer: tens of KB per world).
+// Simulation, which holds them in maps; Simulation::clear() (meant for the
+// Model class 4.4 no longer has) breaks that cycle. The rest of the object
+// graph still leaks inside the library (scripts/lsan-suppressions.txt).
 Model::~Model() {
     if (impl_ && impl_->sim) impl_->sim->clear();
 }
@@ -271,16 +271,16 @@ void Model::set_translation(const std::array<double, 3>& position, const std::ar
         });
 }
 
-std::vector<WallStatus> Model::walls() const {
+Model::WallStatuses Model::walls() const {
     const Impl& m = *impl_;
-    std::vector<WallStatus> out;
-    for (const SP::Interaction& inter : m.walls) {
-        WallStatus st;
+    WallStatuses out{};
+    for (std::size_t w = 0; w < m.walls.size(); ++w) {
+        const SP::Interaction& inter = m.walls[w];
+        WallStatus& st = out[w];
         st.gap = inter->y(0)->getValue(0);
         if (m.ts) st.impulse = inter->lambda(1)->getValue(0);
         st.in_impact_set = m.in_index_set(1, inter);
         st.in_resting_set = m.ed && m.in_index_set(2, inter);
-        out.push_back(st);
     }
     return out;
 }

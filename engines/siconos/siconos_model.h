@@ -125,7 +125,10 @@ public:
     void set_translation(const std::array<double, 3>& position, const std::array<double, 3>& velocity,
                          bool refresh_outputs = false);
 
-    std::vector<WallStatus> walls() const;
+    // One entry per wall in ModelSpec::walls order (at most six); read after
+    // every step and event, so a fixed array rather than an allocation.
+    using WallStatuses = std::array<WallStatus, 6>;
+    WallStatuses walls() const;
     const Counters& counters() const { return counters_; }
     const Effective& effective() const { return effective_; }
 
