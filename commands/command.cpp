@@ -1,6 +1,11 @@
 #include "commands/command.h"
 
+#include "external/external_simulator.h"
+#include "external/trajectory_reader.h"
+#include "platform/program.h"
 #include "scenarios/loader.h"
+
+#include <CLI/CLI.hpp>
 
 #include <fmt/format.h>
 
@@ -8,6 +13,7 @@
 #include <cstdlib>
 #include <exception>
 #include <sstream>
+#include <set>
 
 namespace fs = std::filesystem;
 
@@ -39,12 +45,13 @@ std::vector<fs::path> scenario_files(const fs::path& dir) {
     return files;
 }
 
-std::optional<std::vector<Scenario>> load_all(const std::vector<fs::path>& files) {
+std::optional<std::vector<Scenario>> load_all(const std::vector<fs::path>& files,
+                                              const std::vector<std::string>& external_names) {
     std::vector<Scenario> scenarios;
     bool ok = true;
     for (const auto& f : files) {
         try {
-            scenarios.push_back(load_scenario(f));
+            scenarios.push_back(load_scenario(f, external_names));
         } catch (const ScenarioError& e) {
             for (const auto& d : e.diagnostics()) fmt::print(stderr, "{}\n", d.format());
             ok = false;
@@ -89,6 +96,147 @@ bool create_out_dir(const fs::path& out_dir) {
         fmt::print(stderr, "error: --out: cannot create {}: {}\n", out_dir.string(), e.what());
         return false;
     }
+}
+
+void add_external_options(CLI::App& command, ExternalOptions& options) {
+    command.add_option("--external", options.declarations,
+                       "NAME=COMMAND: run COMMAND (split on whitespace, no shell) as simulator NAME through the "
+                       "external protocol, docs/external.md (repeatable)");
+    command.add_option("--external-timeout", options.timeout_seconds,
+                       "Seconds an external simulator may go without output before it is killed")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+}
+
+namespace {
+
+// Why NAME cannot name a simulator bouncecheck did not build, or nothing.
+std::optional<std::string> extra_name_problem(const std::string& name) {
+    if (auto problem = name_problem(name)) return fmt::format("NAME {}", *problem);
+    if (std::find(kBuiltInSimulators.begin(), kBuiltInSimulators.end(), name) != kBuiltInSimulators.end())
+        return fmt::format("'{}' is a built-in simulator's name", name);
+    return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<ExtraSimulators> ExtraSimulators::from_options(const ExternalOptions& options) {
+    ExtraSimulators extra;
+    extra.timeout_ = options.timeout_seconds;
+    bool ok = true;
+    for (const std::string& arg : options.declarations) {
+        const auto error = [&](const std::string& why) {
+            fmt::print(stderr, "error: --external {}: {}\n", arg, why);
+            ok = false;
+        };
+        const auto eq = arg.find('=');
+        if (eq == std::string::npos) {
+            error("expected NAME=COMMAND");
+            continue;
+        }
+        ExternalDeclaration d{arg.substr(0, eq), {}};
+        std::istringstream words(arg.substr(eq + 1));
+        for (std::string word; words >> word;) d.command.push_back(word);
+        if (auto problem = extra_name_problem(d.name)) {
+            error(*problem);
+            continue;
+        }
+        if (std::find(extra.names_.begin(), extra.names_.end(), d.name) != extra.names_.end()) {
+            error(fmt::format("'{}' is declared twice", d.name));
+            continue;
+        }
+        if (d.command.empty()) {
+            error("the command is empty");
+            continue;
+        }
+        std::string why;
+        const auto program = find_program(d.command[0], fs::current_path(), &why);
+        if (!program) {
+            error(fmt::format("cannot run the program: {}", why));
+            continue;
+        }
+        // It runs in the scenario's folder: a relative path must not change meaning there.
+        if (d.command[0].find('/') != std::string::npos) d.command[0] = fs::absolute(*program).lexically_normal().string();
+        extra.names_.push_back(d.name);
+        extra.command_line_.push_back(make_external_simulator(std::move(d), options.timeout_seconds));
+    }
+    if (!ok) return std::nullopt;
+    return extra;
+}
+
+bool ExtraSimulators::add_trajectories(const std::vector<std::string>& arguments,
+                                       const std::vector<Scenario>& scenarios) {
+    bool ok = true;
+    for (const std::string& arg : arguments) {
+        const auto error = [&](const std::string& why) {
+            fmt::print(stderr, "error: --trajectory {}: {}\n", arg, why);
+            ok = false;
+        };
+        const auto eq = arg.find('=');
+        if (eq == std::string::npos || eq + 1 == arg.size()) {
+            error("expected NAME=FILE.csv, or NAME@SCENARIO=FILE.csv with several scenarios");
+            continue;
+        }
+        std::string name = arg.substr(0, eq), scenario_name;
+        const std::string file = arg.substr(eq + 1);
+        if (const auto at = name.find('@'); at != std::string::npos) {
+            scenario_name = name.substr(at + 1);
+            name.resize(at);
+        }
+        if (auto problem = extra_name_problem(name)) {
+            error(*problem);
+            continue;
+        }
+        const Scenario* target = nullptr;
+        if (scenario_name.empty()) {
+            if (scenarios.size() != 1) {
+                error(fmt::format("{} scenarios are run: say which one this trajectory is of (NAME@SCENARIO=FILE)",
+                                  scenarios.size()));
+                continue;
+            }
+            target = &scenarios.front();
+        } else {
+            for (const Scenario& s : scenarios)
+                if (s.name == scenario_name) target = &s;
+            if (!target) {
+                error(fmt::format("no scenario named '{}' is run", scenario_name));
+                continue;
+            }
+        }
+        const bool taken = std::find(names_.begin(), names_.end(), name) != names_.end() ||
+                           target->externals.count(name) > 0 ||
+                           std::any_of(imported_.begin(), imported_.end(), [&](const auto& entry) {
+                               return entry.first == target->name && entry.second->name() == name;
+                           });
+        if (taken) {
+            error(fmt::format("'{}' already names a simulator of scenario {}", name, target->name));
+            continue;
+        }
+        if (auto problem = read_trajectory_file(file, *target, [](const State&) { return true; })) {
+            error(fmt::format("not a trajectory of scenario {}: {}", target->name, *problem));
+            continue;
+        }
+        imported_.emplace_back(target->name, make_imported_trajectory(name, file));
+    }
+    return ok;
+}
+
+std::vector<const Simulator*> ExtraSimulators::with_command_line(const std::vector<const Simulator*>& built) const {
+    std::vector<const Simulator*> out = built;
+    for (const auto& sim : command_line_) out.push_back(sim.get());
+    return out;
+}
+
+std::vector<const Simulator*> ExtraSimulators::for_scenario(const Scenario& s,
+                                                            const std::vector<const Simulator*>& built) {
+    std::vector<const Simulator*> out = with_command_line(built);
+    for (const auto& [name, command] : s.externals) {
+        from_files_.push_back(make_external_simulator(ExternalDeclaration{name, command}, timeout_));
+        out.push_back(from_files_.back().get());
+    }
+    for (const auto& [scenario, sim] : imported_)
+        if (scenario == s.name) out.push_back(sim.get());
+    return out;
 }
 
 }  // namespace bouncecheck

@@ -5,6 +5,7 @@
 // pipeline beside it; cli/main.cpp lists them.
 #pragma once
 
+#include "external/external_simulator.h"
 #include "scenarios/scenario.h"
 #include "simulators/simulator.h"
 
@@ -46,8 +47,10 @@ Command add_stress_command(CLI::App& app);
 std::filesystem::path bundled_scenario_dir();
 // The *.toml files directly in `dir` (default: the bundled folder), by name.
 std::vector<std::filesystem::path> scenario_files(const std::filesystem::path& dir = bundled_scenario_dir());
-// Loads every file before anything runs; prints every diagnostic. Empty on failure.
-std::optional<std::vector<Scenario>> load_all(const std::vector<std::filesystem::path>& files);
+// Loads every file before anything runs; prints every diagnostic. Empty on
+// failure. `external_names`: see load_scenario.
+std::optional<std::vector<Scenario>> load_all(const std::vector<std::filesystem::path>& files,
+                                              const std::vector<std::string>& external_names = {});
 // The simulators --engines names (every one in `all` if empty), in its order,
 // without `excluded`. An unknown or excluded name is reported: nothing returned.
 std::optional<std::vector<const Simulator*>> select_simulators(const std::vector<std::unique_ptr<const Simulator>>& all,
@@ -56,5 +59,40 @@ std::optional<std::vector<const Simulator*>> select_simulators(const std::vector
                                                                std::string_view why_excluded = {});
 // Creates --out; reports why not.
 bool create_out_dir(const std::filesystem::path& out_dir);
+
+// --external NAME=COMMAND (repeatable) and --external-timeout, shared by the
+// commands that run simulators (docs/external.md).
+struct ExternalOptions {
+    std::vector<std::string> declarations;  // NAME=COMMAND
+    double timeout_seconds = kDefaultExternalTimeoutSeconds;
+};
+void add_external_options(CLI::App& command, ExternalOptions& options);
+
+// The simulators bouncecheck did not build that a command runs beside the
+// built ones: --external's, each scenario's own [external.<name>], and
+// (`run`) --trajectory's imported files. Owns them.
+class ExtraSimulators {
+public:
+    // Parses --external; prints every problem. Nothing on bad input.
+    static std::optional<ExtraSimulators> from_options(const ExternalOptions& options);
+    // Parses --trajectory NAME=FILE or NAME@SCENARIO=FILE against the loaded
+    // scenarios, checking each file whole; prints every problem. False on bad input.
+    bool add_trajectories(const std::vector<std::string>& arguments, const std::vector<Scenario>& scenarios);
+    // The names --external declares (the loader accepts their [engines.<name>]
+    // and [thresholds.<name>] tables).
+    const std::vector<std::string>& command_line_names() const { return names_; }
+    // The simulators `s` runs: `built`, then --external's, then its file's
+    // own, then the trajectories imported for it.
+    std::vector<const Simulator*> for_scenario(const Scenario& s, const std::vector<const Simulator*>& built);
+    // `built`, then --external's (the stress suite's scenarios declare none of their own).
+    std::vector<const Simulator*> with_command_line(const std::vector<const Simulator*>& built) const;
+
+private:
+    double timeout_ = kDefaultExternalTimeoutSeconds;
+    std::vector<std::string> names_;
+    std::vector<std::unique_ptr<const Simulator>> command_line_;
+    std::vector<std::unique_ptr<const Simulator>> from_files_;
+    std::vector<std::pair<std::string, std::unique_ptr<const Simulator>>> imported_;  // per scenario name
+};
 
 }  // namespace bouncecheck

@@ -206,6 +206,7 @@ void StreamRecorder::on_resolved_events(const ResolvedEvents& events) {
 SimulatorSummary record_run(const Simulator& sim, const Scenario& s, StateSink* sink) {
     SimulatorSummary out;
     out.simulator = std::string(sim.name());
+    out.origin = std::string(sim.origin());
     StreamRecorder recorder(s, sink);
     RunOutcome outcome = sim.run(s, recorder);
     recorder.finish(out);

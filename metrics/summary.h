@@ -28,6 +28,7 @@ struct ContactEvent {
 
 struct SimulatorSummary {
     std::string simulator;
+    std::string origin;  // Simulator::origin(): empty for a built simulator
     RunStatus status = RunStatus::ok;
     std::string reason;  // why it was skipped or failed
 

@@ -1,12 +1,13 @@
 #include "platform/isolation.h"
 
+#include "platform/program.h"
+
 #include <fmt/format.h>
 
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <exception>
-#include <sstream>
 #include <vector>
 
 #include <poll.h>
@@ -25,18 +26,6 @@ void write_all(int fd, const std::string& bytes) {
         if (n <= 0) ::_exit(4);
         done += static_cast<std::size_t>(n);
     }
-}
-
-// The last `count` non-empty lines of a child's stderr, for the failure reason.
-std::string last_lines(const std::string& text, std::size_t count) {
-    std::vector<std::string> lines;
-    std::istringstream in(text);
-    for (std::string line; std::getline(in, line);)
-        if (!line.empty()) lines.push_back(line);
-    const std::size_t from = lines.size() > count ? lines.size() - count : 0;
-    std::string out;
-    for (std::size_t i = from; i < lines.size(); ++i) out += (i > from ? " | " : "") + lines[i];
-    return out;
 }
 
 }  // namespace

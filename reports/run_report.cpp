@@ -128,6 +128,7 @@ constexpr std::size_t kJsonContacts = 200;
 
 nlohmann::json result_json(const SimulatorSummary& r, const Comparison* c, int dim) {
     nlohmann::json j = {{"simulator", r.simulator}, {"status", to_string(r.status)}};
+    if (!r.origin.empty()) j["origin"] = r.origin;
     if (!r.reason.empty()) j["reason"] = r.reason;
     if (r.status == RunStatus::skipped) return j;
     j["steps"] = r.steps;
@@ -415,6 +416,7 @@ std::string format_summary(const RunReport& report) {
                 fmt::format_to(out, "  {:<10} skipped: {}\n", r.simulator, r.reason);
                 continue;
             }
+            if (!r.origin.empty()) fmt::format_to(out, "  {} ({})\n", r.simulator, r.origin);
             std::string apexes;
             for (std::size_t i = 0; i < r.apexes.size() && i < 4; ++i)
                 apexes += fmt::format("{}{:.4f}", i ? " " : "", r.apexes[i].height);
@@ -511,7 +513,7 @@ std::string to_markdown(const RunReport& report) {
         for (const char* column : kColumns) fmt::format_to(out, " {} |", column);
         text += "\n| :-- | --: | --: | --: | --: | --: | :-- | :-- | --: |\n";
 
-        std::vector<std::string> failures, verdicts;
+        std::vector<std::string> failures, verdicts, origins;
         for (std::size_t i = 0; i < run.results.size(); ++i) {
             const Row row = make_row(run, i);
             const std::string name = md_cell(row.simulator);
@@ -523,6 +525,8 @@ std::string to_markdown(const RunReport& report) {
             const std::string damping = row.damping_ok ? row.damping : "**" + row.damping + "**";
             fmt::format_to(out, "| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", name, row.apex_ref, row.rms_ref,
                            row.rms_exact, row.alpha, row.beta, damping, thresholds, row.ns_per_step);
+            if (!run.results[i].origin.empty())
+                origins.push_back(fmt::format("- {}: {}", name, md_cell(run.results[i].origin)));
             if (row.status == RunStatus::failed)
                 failures.push_back(fmt::format("- {}: **FAILED**: {}", name, md_cell(row.reason)));
             for (const ThresholdCheck* t : row.failed) {
@@ -539,6 +543,10 @@ std::string to_markdown(const RunReport& report) {
         if (!verdicts.empty()) {
             text += "\nDamping:\n\n";
             for (const std::string& v : verdicts) text += v + '\n';
+        }
+        if (!origins.empty()) {
+            text += "\nSimulators from outside this build:\n\n";
+            for (const std::string& o : origins) text += o + '\n';
         }
     }
     return text;

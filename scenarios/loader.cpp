@@ -1,5 +1,7 @@
 #include "scenarios/loader.h"
 
+#include "platform/program.h"
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -21,6 +23,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <system_error>
 #include <utility>
 
@@ -460,18 +463,7 @@ toml::table parse_toml(std::string_view text, Checker& c, const std::string& fil
 }
 
 void check_name(Checker& c, const toml::value<std::string>& node) {
-    const std::string& name = node.get();
-    const toml::source_position where = start_of(node);
-    if (name.empty()) c.report(where, "name", "must not be empty");
-    else if (name.size() > kMaxNameBytes)
-        c.report(where, "name", fmt::format("is {} characters long; the limit is {}", name.size(), kMaxNameBytes));
-    else if (!std::all_of(name.begin(), name.end(), is_name_char))
-        c.report(where, "name",
-                 fmt::format("\"{}\" is not usable as a folder name: only letters, digits, '-', '_' and '.' are "
-                             "allowed",
-                             printable(name)));
-    else if (name.front() == '.')
-        c.report(where, "name", fmt::format("\"{}\" must not start with '.'", printable(name)));
+    if (auto problem = name_problem(node.get())) c.report(start_of(node), "name", std::move(*problem));
 }
 
 Vec3 to_vec3(const std::vector<Number>& numbers) {
@@ -510,21 +502,98 @@ void read_collision_options(const toml::table& engine, const std::string& path, 
     }
 }
 
+// The names a file may give [engines.<name>] and [thresholds.<name>]
+// tables: the built-in simulators, and the external ones declared in the
+// file or on the command line.
+struct KnownNames {
+    std::set<std::string> externals;
+    bool engine(std::string_view name) const {
+        const auto engines = built_in_engines();
+        return std::find(engines.begin(), engines.end(), name) != engines.end() || external(name);
+    }
+    bool simulator(std::string_view name) const {
+        return std::find(kBuiltInSimulators.begin(), kBuiltInSimulators.end(), name) != kBuiltInSimulators.end() ||
+               external(name);
+    }
+    bool external(std::string_view name) const { return externals.count(std::string(name)) > 0; }
+    std::string list(std::span<const std::string_view> built_in) const {
+        std::string out = fmt::format("{}", fmt::join(built_in, ", "));
+        for (const std::string& name : externals) out += ", " + name;
+        return out;
+    }
+};
+
+// A TOML table as JSON text (dates and times become strings), for an
+// external simulator's [engines.<name>], which bouncecheck passes on unread.
+std::string toml_to_json(const toml::table& table) {
+    std::ostringstream out;
+    out << toml::json_formatter{table};
+    return out.str();
+}
+
+// [external.<name>]: an external simulator for this scenario (docs/external.md):
+// `command`, the program and its arguments. A program path holding a '/' is
+// relative to the file's folder; one without is looked up on PATH.
+std::map<std::string, std::vector<std::string>> read_externals(const toml::table& root, Checker& c,
+                                                               const std::filesystem::path& folder,
+                                                               const std::vector<std::string>& declared_elsewhere) {
+    std::map<std::string, std::vector<std::string>> externals;
+    const toml::table* table = c.optional_table(root, "", "external");
+    if (!table) return externals;
+    for (const auto& [key, node] : *table) {
+        const std::string name(key.str());
+        const std::string path = child_key("external", name);
+        if (auto problem = name_problem(name)) {
+            c.report(start_of(key), path, std::move(*problem));
+        } else if (std::find(kBuiltInSimulators.begin(), kBuiltInSimulators.end(), name) != kBuiltInSimulators.end()) {
+            c.report(start_of(key), path, fmt::format("'{}' is a built-in simulator's name", name));
+        } else if (std::find(declared_elsewhere.begin(), declared_elsewhere.end(), name) != declared_elsewhere.end()) {
+            c.report(start_of(key), path, fmt::format("'{}' is also declared by --external", name));
+        }
+        const toml::table* external = c.optional_table(*table, "external", name);
+        if (!external) continue;
+        c.watch_table(*external, path);
+        const toml::node* command = c.get(*external, path, "command");
+        if (!command) continue;
+        const toml::array* array = command->as_array();
+        std::vector<std::string> argv;
+        if (array)
+            for (const toml::node& arg : *array)
+                if (const auto* text = arg.as_string()) argv.push_back(text->get());
+        if (!array || array->empty() || argv.size() != array->size()) {
+            c.report(start_of(*command), child_key(path, "command"),
+                     "expected a non-empty array of strings: the program, then its arguments");
+            continue;
+        }
+        std::string why;
+        if (const auto program = find_program(argv[0], folder, &why)) {
+            if (argv[0].find('/') != std::string::npos) argv[0] = std::filesystem::absolute(*program).lexically_normal().string();
+        } else {
+            c.report(start_of(*command), child_key(path, "command"), fmt::format("cannot run the program: {}", why));
+        }
+        externals[name] = std::move(argv);
+    }
+    return externals;
+}
+
 // [engines.<name>]: per-engine settings. Engine names are checked against
 // every engine bouncecheck knows, built or not, so a file validates the same
-// on every build.
-std::map<std::string, EngineOptions> read_engines(const toml::table& root, Checker& c) {
-    static constexpr std::array<std::string_view, 8> kEngines{"bullet",   "ode",     "box2d",      "mujoco",
-                                                              "chipmunk", "siconos", "siconos-ed", "dart"};
+// on every build, and the external simulators (`passthrough` gets their tables).
+std::map<std::string, EngineOptions> read_engines(const toml::table& root, Checker& c, const KnownNames& known,
+                                                  std::map<std::string, std::string>& passthrough) {
     std::map<std::string, EngineOptions> engines;
     const toml::table* table = c.optional_table(root, "", "engines");
     if (!table) return engines;
     for (const auto& [key, node] : *table) {
         const std::string name(key.str());
         const std::string path = child_key("engines", name);
-        if (std::find(kEngines.begin(), kEngines.end(), name) == kEngines.end()) continue;  // reported as unknown
+        if (!known.engine(name)) continue;  // reported as unknown
         const toml::table* engine = c.optional_table(*table, "engines", name);
         if (!engine) continue;
+        if (known.external(name)) {  // the program's own: passed on as written
+            passthrough[name] = toml_to_json(*engine);
+            continue;
+        }
         c.watch_table(*engine, path);
         EngineOptions options;
         if (const auto* model = c.string(*engine, "tangential_model", false, path)) {
@@ -552,8 +621,9 @@ std::map<std::string, EngineOptions> read_engines(const toml::table& root, Check
         engines[name] = options;
     }
     for (const auto& [key, node] : *table) {
-        if (std::find(kEngines.begin(), kEngines.end(), key.str()) != kEngines.end()) continue;
-        c.report(start_of(key), child_key("engines", key.str()), fmt::format("unknown engine (known: {})", fmt::join(kEngines, ", ")));
+        if (known.engine(key.str())) continue;
+        c.report(start_of(key), child_key("engines", key.str()),
+                 fmt::format("unknown engine (known: {})", known.list(built_in_engines())));
         c.get(*table, "engines", key.str(), false);  // reported here, not again as an unknown key
     }
     return engines;
@@ -598,9 +668,7 @@ ThresholdSet read_threshold_set(const toml::table& table, const std::string& pat
 // divergence from the reference, a simulator's table overriding the common
 // one. Simulator names are checked against every simulator bouncecheck
 // knows, built or not, so a file validates the same on every build.
-Thresholds read_thresholds(const toml::table& root, Checker& c) {
-    static constexpr std::array<std::string_view, 10> kSimulators{
-        "reference", "exact", "bullet", "ode", "box2d", "mujoco", "chipmunk", "siconos", "siconos-ed", "dart"};
+Thresholds read_thresholds(const toml::table& root, Checker& c, const KnownNames& known) {
     Thresholds thresholds;
     const toml::table* table = c.optional_table(root, "", "thresholds");
     if (!table) return thresholds;
@@ -608,7 +676,7 @@ Thresholds read_thresholds(const toml::table& root, Checker& c) {
     thresholds.all = read_threshold_set(*table, "thresholds", c);
     for (const auto& [key, node] : *table) {
         const std::string name(key.str());
-        if (std::find(kSimulators.begin(), kSimulators.end(), name) == kSimulators.end()) continue;
+        if (!known.simulator(name)) continue;
         const toml::table* simulator = c.optional_table(*table, "thresholds", name);  // reported if not a table
         if (!simulator) continue;
         const std::string path = child_key("thresholds", name);
@@ -617,17 +685,16 @@ Thresholds read_thresholds(const toml::table& root, Checker& c) {
     }
     // Any other table is meant for a simulator; any other value is an unknown key, reported at the end.
     for (const auto& [key, node] : *table) {
-        if (!node.is_table() || is_threshold_key(key.str()) ||
-            std::find(kSimulators.begin(), kSimulators.end(), key.str()) != kSimulators.end())
-            continue;
+        if (!node.is_table() || is_threshold_key(key.str()) || known.simulator(key.str())) continue;
         c.report(start_of(key), child_key("thresholds", key.str()),
-                 fmt::format("unknown simulator (known: {})", fmt::join(kSimulators, ", ")));
+                 fmt::format("unknown simulator (known: {})", known.list(kBuiltInSimulators)));
         c.get(*table, "thresholds", key.str(), false);  // reported here, not again as an unknown key
     }
     return thresholds;
 }
 
-Scenario validate(const toml::table& root, Checker& c) {
+Scenario validate(const toml::table& root, Checker& c, const std::filesystem::path& folder,
+                  const std::vector<std::string>& external_names) {
     const auto* name = c.string(root, "name", true);
     const auto* description = c.string(root, "description", false);
     if (name) check_name(c, *name);
@@ -650,8 +717,13 @@ Scenario validate(const toml::table& root, Checker& c) {
     const auto beta = c.number(damping, "damping", "tangential");
     const auto dt = c.number(run, "run", "dt");
     const auto duration = c.number(run, "run", "duration");
-    auto engines = read_engines(root, c);
-    auto thresholds = read_thresholds(root, c);
+    auto externals = read_externals(root, c, folder, external_names);
+    KnownNames known;
+    known.externals.insert(external_names.begin(), external_names.end());
+    for (const auto& [external, command] : externals) known.externals.insert(external);
+    std::map<std::string, std::string> passthrough;
+    auto engines = read_engines(root, c, known, passthrough);
+    auto thresholds = read_thresholds(root, c, known);
     c.report_unknown_keys();
 
     if (radius) {
@@ -722,6 +794,8 @@ Scenario validate(const toml::table& root, Checker& c) {
     s.dt = dt->value;
     s.duration = duration->value;
     s.engines = std::move(engines);
+    s.externals = std::move(externals);
+    s.passthrough_tables = std::move(passthrough);
     s.thresholds = std::move(thresholds);
     return s;
 }
@@ -733,7 +807,8 @@ std::string too_large(std::string_view what) {
                        kMaxInputBytes);
 }
 
-Scenario parse_unguarded(std::string_view text, const std::string& file_name) {
+Scenario parse_unguarded(std::string_view text, const std::string& file_name,
+                         const std::vector<std::string>& external_names) {
     Checker c{file_name};
     if (text.size() > kMaxInputBytes) {
         c.report({1, 1}, "", too_large("input is"));
@@ -746,12 +821,12 @@ Scenario parse_unguarded(std::string_view text, const std::string& file_name) {
     if (!std::all_of(text.begin(), text.end(), is_ascii))
         parse_toml(ascii_stand_in(text), c, file_name);
     const toml::table root = parse_toml(text, c, file_name);
-    Scenario s = validate(root, c);
+    Scenario s = validate(root, c, std::filesystem::path(file_name).parent_path(), external_names);
     s.source = file_name;
     return s;
 }
 
-Scenario load_unguarded(const std::filesystem::path& file) {
+Scenario load_unguarded(const std::filesystem::path& file, const std::vector<std::string>& external_names) {
     const std::string name = file.string();
     const auto fail = [&](const std::string& reason) { throw ScenarioError({{name, 0, 0, "", reason}}); };
 
@@ -775,7 +850,7 @@ Scenario load_unguarded(const std::filesystem::path& file) {
     in.read(text.data(), static_cast<std::streamsize>(text.size()));
     if (in.bad()) fail("cannot read file");
     text.resize(static_cast<std::size_t>(in.gcount()));
-    return parse_unguarded(text, name);
+    return parse_unguarded(text, name, external_names);
 }
 
 // Runs `load` so that callers only ever see ScenarioError, even for bad_alloc.
@@ -792,12 +867,28 @@ Scenario guarded(const std::string& file_name, Load load) {
 
 }  // namespace
 
-Scenario parse_scenario(std::string_view toml_text, const std::string& file_name) {
-    return guarded(file_name, [&] { return parse_unguarded(toml_text, file_name); });
+Scenario parse_scenario(std::string_view toml_text, const std::string& file_name,
+                        const std::vector<std::string>& external_names) {
+    return guarded(file_name, [&] { return parse_unguarded(toml_text, file_name, external_names); });
 }
 
-Scenario load_scenario(const std::filesystem::path& file) {
-    return guarded(file.string(), [&] { return load_unguarded(file); });
+Scenario load_scenario(const std::filesystem::path& file, const std::vector<std::string>& external_names) {
+    return guarded(file.string(), [&] { return load_unguarded(file, external_names); });
+}
+
+std::span<const std::string_view> built_in_engines() {
+    return std::span<const std::string_view>(kBuiltInSimulators).subspan(2);
+}
+
+std::optional<std::string> name_problem(std::string_view name) {
+    if (name.empty()) return "must not be empty";
+    if (name.size() > kMaxNameBytes)
+        return fmt::format("is {} characters long; the limit is {}", name.size(), kMaxNameBytes);
+    if (!std::all_of(name.begin(), name.end(), is_name_char))
+        return fmt::format("\"{}\" is not usable as a folder name: only letters, digits, '-', '_' and '.' are allowed",
+                           printable(name));
+    if (name.front() == '.') return fmt::format("\"{}\" must not start with '.'", printable(name));
+    return std::nullopt;
 }
 
 }  // namespace bouncecheck

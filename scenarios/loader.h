@@ -7,7 +7,10 @@
 
 #include "scenarios/scenario.h"
 
+#include <array>
 #include <filesystem>
+#include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -42,11 +45,28 @@ private:
 inline constexpr double kMinDt = 1e-9;
 inline constexpr double kMaxSteps = 1e10;
 
-// Reads and validates a scenario file. Throws ScenarioError.
-Scenario load_scenario(const std::filesystem::path& file);
+// Every simulator bouncecheck can be built with (built or not, so that a
+// file validates the same on every build): a scenario's [thresholds.<name>]
+// may name one, and an external simulator may not take one's name. The
+// engines are all of them but the first two.
+inline constexpr std::array<std::string_view, 10> kBuiltInSimulators{
+    "reference", "exact", "bullet", "ode", "box2d", "mujoco", "chipmunk", "siconos", "siconos-ed", "dart"};
+std::span<const std::string_view> built_in_engines();
 
-// Validates scenario text; `file_name` is only used in diagnostics and as
-// Scenario::source. Throws ScenarioError. For tests and fuzzing.
-Scenario parse_scenario(std::string_view toml_text, const std::string& file_name);
+// Why `name` cannot name a scenario or an external simulator (it becomes a
+// folder or a file name): nothing if it can.
+std::optional<std::string> name_problem(std::string_view name);
+
+// Reads and validates a scenario file. `external_names`: the external
+// simulators declared outside the file (--external), whose [engines.<name>]
+// and [thresholds.<name>] tables the file may hold besides those of its own
+// [external.<name>]. Throws ScenarioError.
+Scenario load_scenario(const std::filesystem::path& file, const std::vector<std::string>& external_names = {});
+
+// Validates scenario text; `file_name` is used in diagnostics, as
+// Scenario::source, and as the base of a relative external program. Throws
+// ScenarioError. For tests and fuzzing.
+Scenario parse_scenario(std::string_view toml_text, const std::string& file_name,
+                        const std::vector<std::string>& external_names = {});
 
 }  // namespace bouncecheck

@@ -7,6 +7,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace bouncecheck {
 
@@ -85,6 +86,12 @@ struct Scenario {
 
     // [engines.<name>] tables; an engine without one runs with EngineOptions{}.
     std::map<std::string, EngineOptions> engines;
+    // External simulators this file declares ([external.<name>] command: the
+    // program and its arguments, docs/external.md), and the [engines.<name>]
+    // table of each external simulator, as JSON text: handed to the program
+    // as written, never interpreted here.
+    std::map<std::string, std::vector<std::string>> externals;
+    std::map<std::string, std::string> passthrough_tables;
     Thresholds thresholds;
 
     int vertical_axis() const { return dim - 1; }

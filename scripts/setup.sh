@@ -4,8 +4,10 @@
 # Run by scripts/run.sh, test.sh and sanitize.sh; arguments go to the CMake
 # configure step (e.g. -DBOUNCECHECK_WITH_DART=OFF, which also skips DART's
 # packages: a lean build). Safe to run again.
-# WITH_BROWSER=1 (scripts/test.sh sets it) also installs Debian's chromium for
-# the test that opens the HTML pages in a real browser.
+# WITH_TEST_TOOLS=1 (scripts/test.sh sets it) also installs what only the
+# tests run: Debian's chromium, for the test that opens the HTML pages in a
+# real browser, and python3, for the example external simulator
+# (examples/external/semi_implicit_euler.py).
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -51,7 +53,7 @@ done
 # minimal Debian has no CA bundle without ca-certificates.
 command -v node >/dev/null && command -v npm >/dev/null || PACKAGES+=(nodejs npm)
 PACKAGES+=(ca-certificates)
-[ "${WITH_BROWSER:-0}" = 1 ] && PACKAGES+=(chromium)
+[ "${WITH_TEST_TOOLS:-0}" = 1 ] && PACKAGES+=(chromium python3)
 
 "$ROOT/scripts/packages.sh" "${PACKAGES[@]}"
 

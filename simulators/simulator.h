@@ -76,6 +76,9 @@ public:
     virtual ~Simulator() = default;
     virtual std::string_view name() const = 0;
     virtual std::string_view description() const = 0;
+    // Where a simulator bouncecheck did not build comes from ("external:
+    // COMMAND", "imported: FILE"); empty for a built one.
+    virtual std::string_view origin() const { return {}; }
     // Why this simulator cannot run `s`, or nothing if it can. Asked before any set-up.
     virtual std::optional<std::string> cannot_run(const Scenario& s) const {
         (void)s;

@@ -34,6 +34,8 @@ struct RunOptions {
     bool in_process = false;
     std::vector<std::string> threshold_args;  // KEY=VALUE
     ThresholdSet overrides;
+    ExternalOptions external;
+    std::vector<std::string> trajectory_args;  // NAME=FILE or NAME@SCENARIO=FILE
 };
 
 // --threshold KEY=VALUE: a [thresholds] key and its limit, over every simulator's.
@@ -73,7 +75,9 @@ int command_run(RunOptions opt) {
         fmt::print(stderr, "error: no scenario given and none bundled in {}\n", bundled_scenario_dir().string());
         return kBadInput;
     }
-    auto scenarios = load_all(files);
+    auto extra = ExtraSimulators::from_options(opt.external);
+    if (!extra) return kBadInput;
+    auto scenarios = load_all(files, extra->command_line_names());
     if (!scenarios) return kBadInput;
     std::set<std::string> names;
     for (const auto& s : *scenarios) {
@@ -83,6 +87,7 @@ int command_run(RunOptions opt) {
         }
     }
 
+    if (!extra->add_trajectories(opt.trajectory_args, *scenarios)) return kBadInput;
     const auto all = built_simulators();
     const auto selected = select_simulators(all, opt.engines);
     if (!selected) return kBadInput;
@@ -92,7 +97,7 @@ int command_run(RunOptions opt) {
     RunReport report;
     bool any_failed = false, any_exceeded = false;
     for (const Scenario& s : *scenarios) {
-        ScenarioRun run = run_scenario(s, RunRequest{*selected, out_dir, opt.trajectories, opt.overrides, /*plots=*/true,
+        ScenarioRun run = run_scenario(s, RunRequest{extra->for_scenario(s, *selected), out_dir, opt.trajectories, opt.overrides, /*plots=*/true,
                                                       /*isolate=*/!opt.in_process});
         // Wall-clock figures are the only outputs that differ between runs of
         // the same input: without them every file is a function of the input.
@@ -131,6 +136,10 @@ Command add_run_command(CLI::App& app) {
                       "Leave run times out of every output, so that the same input gives the same bytes");
     command->add_option("--threshold", opt->threshold_args,
                         "KEY=VALUE: a [thresholds] limit for every simulator, over the scenario's (repeatable)");
+    add_external_options(*command, opt->external);
+    command->add_option("--trajectory", opt->trajectory_args,
+                        "NAME=FILE.csv: compare a recorded trajectory (the --trajectories CSV format) as simulator "
+                        "NAME; with several scenarios NAME@SCENARIO=FILE.csv (repeatable)");
     return {command, [opt] { return command_run(*opt); }};
 }
 

@@ -214,6 +214,7 @@ ScenarioRun run_scenario(const Scenario& s, const RunRequest& request) {
         if (auto why = sim->cannot_run(s)) {
             SimulatorSummary skipped;
             skipped.simulator = std::string(sim->name());
+            skipped.origin = std::string(sim->origin());
             skipped.status = RunStatus::skipped;
             skipped.reason = *why;
             run.results.push_back(skipped);
@@ -223,6 +224,7 @@ ScenarioRun run_scenario(const Scenario& s, const RunRequest& request) {
         }
         Outcome o = request.isolate && sim->third_party() ? run_one_isolated(*sim, s, request, base)
                                                           : run_one(*sim, s, request, base);
+        o.summary.origin = std::string(sim->origin());
         const ThresholdSet limits = limits_for(s, o.summary.simulator, request.threshold_overrides);
         const int bounce_count = limits.bounce_count.value_or(kDefaultBounceCount);
         Comparison c;

@@ -29,13 +29,16 @@ struct StressOptions {
     std::string out_dir = "bouncecheck-out";
     std::vector<std::string> only;  // rows or scenario names
     double budget = kDefaultBudgetSeconds;
+    ExternalOptions external;
 };
 
 // Exit status of stress (README): 0 every invariant held; 1 an invariant
 // broke, a finding about a simulator; 3 a simulator threw or gave up, so the
 // matrix has a hole (over 1: the run is incomplete); 2 bad input.
 int command_stress(const StressOptions& opt) {
-    auto scenarios = load_all(scenario_files(bundled_scenario_dir() / "stress"));
+    const auto extra = ExtraSimulators::from_options(opt.external);
+    if (!extra) return kBadInput;
+    auto scenarios = load_all(scenario_files(bundled_scenario_dir() / "stress"), extra->command_line_names());
     if (!scenarios) return kBadInput;
     std::vector<StressCase> cases = stress_suite(*scenarios);
     if (!opt.only.empty()) {
@@ -63,7 +66,7 @@ int command_stress(const StressOptions& opt) {
     if (!create_out_dir(out_dir)) return kBadInput;
 
     StressRequest request;
-    request.simulators = *selected;
+    request.simulators = extra->with_command_line(*selected);
     request.jobs = opt.jobs;
     request.budget_seconds = opt.budget;
     request.on_progress = [](const StressResult& r, std::size_t done, std::size_t total) {
@@ -73,8 +76,13 @@ int command_stress(const StressOptions& opt) {
     };
     const StressReport report = run_stress(cases, request);
     nlohmann::json engines = nlohmann::json::array();
-    for (const Simulator* sim : *selected) engines.push_back(std::string(sim->name()));
+    nlohmann::json origins = nlohmann::json::object();  // simulators from outside this build
+    for (const Simulator* sim : request.simulators) {
+        engines.push_back(std::string(sim->name()));
+        if (!sim->origin().empty()) origins[std::string(sim->name())] = std::string(sim->origin());
+    }
     const nlohmann::json parameters{{"engines", engines},
+                                    {"origins", origins},
                                     {"jobs", opt.jobs > 0 ? opt.jobs : 0},
                                     {"only", opt.only},
                                     {"budget_seconds", opt.budget},
@@ -107,6 +115,7 @@ Command add_stress_command(CLI::App& app) {
     command->add_option("--budget", opt->budget, "Wall-time budget of one run (s)")
         ->capture_default_str()
         ->check(CLI::Range(0.001, 86400.0));
+    add_external_options(*command, opt->external);
     return {command, [opt] { return command_stress(*opt); }};
 }
 

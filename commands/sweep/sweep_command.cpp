@@ -27,10 +27,13 @@ struct SweepOptions {
     int repeat = 3;
     int jobs = 0;  // 0: every core
     std::string out_dir = "bouncecheck-out";
+    ExternalOptions external;
 };
 
 int command_sweep(const SweepOptions& opt) {
-    auto scenarios = load_all({opt.file});
+    auto extra = ExtraSimulators::from_options(opt.external);
+    if (!extra) return kBadInput;
+    auto scenarios = load_all({opt.file}, extra->command_line_names());
     if (!scenarios) return kBadInput;
     const Scenario& s = scenarios->front();
 
@@ -69,7 +72,7 @@ int command_sweep(const SweepOptions& opt) {
     if (!create_out_dir(out_dir)) return kBadInput;
 
     SweepRequest request;
-    request.simulators = *selected;
+    request.simulators = extra->for_scenario(s, *selected);
     request.dts = dts;
     request.repeat = opt.repeat;
     request.jobs = opt.jobs;
@@ -86,9 +89,14 @@ int command_sweep(const SweepOptions& opt) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
     nlohmann::json engines = nlohmann::json::array();
-    for (const Simulator* sim : *selected) engines.push_back(std::string(sim->name()));
+    nlohmann::json origins = nlohmann::json::object();  // simulators from outside this build
+    for (const Simulator* sim : request.simulators) {
+        engines.push_back(std::string(sim->name()));
+        if (!sim->origin().empty()) origins[std::string(sim->name())] = std::string(sim->origin());
+    }
     const nlohmann::json parameters{{"scenario_file", opt.file},
                                     {"engines", engines},
+                                    {"origins", origins},
                                     {"dt", dts},
                                     {"dt_source", opt.dt.empty() ? "default" : "--dt"},
                                     {"dt_argument", opt.dt},
@@ -121,6 +129,7 @@ Command add_sweep_command(CLI::App& app) {
     command->add_option("--jobs", opt->jobs, "(simulator, dt) pairs run at once (default: every core)")
         ->check(CLI::Range(1, 4096));
     command->add_option("--out", opt->out_dir, "Output folder for sweep.csv, sweep.json and sweep.html")->capture_default_str();
+    add_external_options(*command, opt->external);
     return {command, [opt] { return command_sweep(*opt); }};
 }
 

@@ -13,11 +13,18 @@ namespace bouncecheck {
 
 namespace {
 
-int command_validate(const std::vector<std::string>& files) {
+struct ValidateOptions {
+    std::vector<std::string> files;
+    ExternalOptions external;  // the names a file's [engines.<name>] and [thresholds.<name>] may use
+};
+
+int command_validate(const ValidateOptions& opt) {
+    const auto extra = ExtraSimulators::from_options(opt.external);
+    if (!extra) return kBadInput;
     bool ok = true;
-    for (const auto& f : files) {
+    for (const auto& f : opt.files) {
         try {
-            const Scenario s = load_scenario(f);
+            const Scenario s = load_scenario(f, extra->command_line_names());
             fmt::print("{}: ok ({}, {}D)\n", f, s.name, s.dim);
         } catch (const ScenarioError& e) {
             for (const auto& d : e.diagnostics()) fmt::print(stderr, "{}\n", d.format());
@@ -30,10 +37,11 @@ int command_validate(const std::vector<std::string>& files) {
 }  // namespace
 
 Command add_validate_command(CLI::App& app) {
-    auto files = std::make_shared<std::vector<std::string>>();
+    auto opt = std::make_shared<ValidateOptions>();
     CLI::App* command = app.add_subcommand("validate", "Check scenario files without running them");
-    command->add_option("files", *files, "Scenario files")->required();
-    return {command, [files] { return command_validate(*files); }};
+    command->add_option("files", opt->files, "Scenario files")->required();
+    add_external_options(*command, opt->external);
+    return {command, [opt] { return command_validate(*opt); }};
 }
 
 }  // namespace bouncecheck

@@ -275,7 +275,7 @@
       section.appendChild(el("h3", {}, "Engine settings"));
       for (const r of withSettings) {
         section.appendChild(el("details", {}, [
-          el("summary", {}, r.simulator + " (" + r.settings.length + " settings)"),
+          el("summary", {}, r.simulator + (r.origin ? " — " + r.origin : "") + " (" + r.settings.length + " settings)"),
           table(["setting", "value", "why"], r.settings.map((st) => [st.key, st.value, st.why]), "settings")]));
       }
     }

@@ -2,7 +2,7 @@
 # The include rule of the source tree (README, "Layout"): the top-level
 # folders form layers, from the bottom
 #
-#   platform  scenarios  simulators  reference|exact|engines  registry
+#   platform  scenarios  simulators  reference|exact|engines|external  registry
 #   metrics  comparison  verdicts  reports  commands  cli
 #
 # and a file may include headers of its own folder or of a folder in a lower
@@ -11,7 +11,7 @@
 # of each other either: engines/dart/ may include engines/*.h, never
 # engines/ode/. Since every arrow points down, the folders' include graph has
 # no cycle. The front ends (tests,
-# bench, fuzz) sit on top of everything and are not checked.
+# bench, fuzz, examples) sit on top of everything and are not checked.
 #
 # Also fails when a top-level folder with C++ sources is in no layer (a new
 # folder must be given its place), and when one folder holds more than a
@@ -23,9 +23,9 @@ set -euo pipefail
 ROOT="${1:?usage: check_layers.sh ROOT}"
 cd "$ROOT"
 
-LAYERS=(platform scenarios simulators "reference exact engines" registry
+LAYERS=(platform scenarios simulators "reference exact engines external" registry
         metrics comparison verdicts reports commands cli)
-FRONT_ENDS=" tests bench fuzz "
+FRONT_ENDS=" tests bench fuzz examples "
 
 declare -A rank=()
 for i in "${!LAYERS[@]}"; do

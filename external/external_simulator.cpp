@@ -1,0 +1,217 @@
+#include "external/external_simulator.h"
+
+#include "external/trajectory_reader.h"
+#include "platform/program.h"
+#include "simulators/stream_contacts.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace bouncecheck {
+
+namespace {
+
+using nlohmann::json;
+
+json vector_json(const Vec3& v, int dim) {
+    json out = json::array();
+    for (int i = 0; i < dim; ++i) out.push_back(v[i]);
+    return out;
+}
+
+// An empty file the program may write its settings to, removed with this.
+class SettingsFile {
+public:
+    SettingsFile() {
+        std::string pattern = (fs::temp_directory_path() / "bouncecheck-settings-XXXXXX").string();
+        const int fd = ::mkstemp(pattern.data());
+        if (fd < 0) throw std::runtime_error(fmt::format("cannot create a settings file in {}", pattern));
+        ::close(fd);
+        path_ = pattern;
+    }
+    ~SettingsFile() {
+        std::error_code ec;
+        fs::remove(path_, ec);
+    }
+    const std::string& path() const { return path_; }
+    std::string read() const {
+        std::ifstream in(path_, std::ios::binary);
+        std::stringstream text;
+        text << in.rdbuf();
+        return text.str();
+    }
+
+private:
+    std::string path_;
+};
+
+// Streams rows into a RunSink: each one with the contacts seen since the
+// previous one. Remembers whether the sink said stop (the recorder's
+// verdict on a state then stands, not the program's).
+class RowsToSink {
+public:
+    RowsToSink(const Scenario& s, RunSink& sink) : detector_(s), sink_(sink) {}
+    bool operator()(const State& state) {
+        const ContactMask contact = first_ ? ContactMask{} : detector_.detect<3>(previous_, state);
+        first_ = false;
+        previous_ = state;
+        stopped_ = !sink_.on_state(state, contact);
+        return !stopped_;
+    }
+    bool stopped() const { return stopped_; }
+
+private:
+    StreamContactDetector detector_;
+    RunSink& sink_;
+    State previous_;
+    bool first_ = true, stopped_ = false;
+};
+
+RunOutcome failed(RunOutcome out, std::string reason) {
+    out.status = RunStatus::failed;
+    out.reason = std::move(reason);
+    return out;
+}
+
+class ExternalSimulator final : public Simulator {
+public:
+    ExternalSimulator(ExternalDeclaration d, double timeout)
+        : declaration_(std::move(d)), timeout_(timeout),
+          origin_(fmt::format("external: {}", fmt::join(declaration_.command, " "))) {}
+
+    std::string_view name() const override { return declaration_.name; }
+    std::string_view description() const override { return origin_; }
+    std::string_view origin() const override { return origin_; }
+
+    RunOutcome run(const Scenario& s, RunSink& sink) const override {
+        RunOutcome out;
+        out.settings.push_back({"protocol", fmt::format("bouncecheck-external/{}", kExternalProtocol),
+                                "docs/external.md: the scenario on stdin as JSON, the trajectory on stdout as CSV"});
+        const SettingsFile settings;
+        TrajectoryReader reader(s);
+        RowsToSink rows(s, sink);
+        ProgramRequest request;
+        request.argv = declaration_.command;
+        request.cwd = s.source.parent_path();
+        request.input = external_input(s, declaration_.name, settings.path());
+        request.on_output = [&](std::string_view bytes) { return reader.feed(bytes, rows); };
+        request.silence_timeout_seconds = timeout_;
+        ProgramEnd end;
+        out.run_seconds = timed_seconds([&] { end = run_program(request); });
+
+        if (rows.stopped()) return out;
+        const auto with_stderr = [&](const std::string& what) {
+            return end.stderr_tail.empty() ? what : fmt::format("{}; stderr: {}", what, end.stderr_tail);
+        };
+        if (reader.problem()) return failed(out, with_stderr("malformed trajectory: " + reader.problem()->format()));
+        if (!end.succeeded()) return failed(out, end.describe(timeout_));
+        if (!reader.finish(rows)) {
+            if (rows.stopped()) return out;
+            return failed(out, with_stderr("malformed trajectory: " + reader.problem()->format()));
+        }
+        try {
+            const std::string text = settings.read();
+            if (!text.empty())
+                for (Setting& st : parse_external_settings(text)) out.settings.push_back(std::move(st));
+        } catch (const std::exception& e) {
+            return failed(out, fmt::format("its settings file: {}", e.what()));
+        }
+        return out;
+    }
+
+private:
+    ExternalDeclaration declaration_;
+    double timeout_;
+    std::string origin_;
+};
+
+class ImportedTrajectory final : public Simulator {
+public:
+    ImportedTrajectory(std::string name, std::string file)
+        : name_(std::move(name)), file_(std::move(file)), origin_(fmt::format("imported: {}", file_)) {}
+
+    std::string_view name() const override { return name_; }
+    std::string_view description() const override { return origin_; }
+    std::string_view origin() const override { return origin_; }
+
+    RunOutcome run(const Scenario& s, RunSink& sink) const override {
+        RunOutcome out;
+        out.settings.push_back({"file", file_, "a recorded trajectory, compared as it was recorded"});
+        RowsToSink rows(s, sink);
+        std::optional<std::string> problem;
+        out.run_seconds = timed_seconds([&] { problem = read_trajectory_file(file_, s, std::ref(rows)); });
+        if (problem) return failed(out, *problem);
+        return out;
+    }
+
+private:
+    std::string name_, file_, origin_;
+};
+
+}  // namespace
+
+std::unique_ptr<const Simulator> make_external_simulator(ExternalDeclaration declaration,
+                                                         double silence_timeout_seconds) {
+    return std::make_unique<ExternalSimulator>(std::move(declaration), silence_timeout_seconds);
+}
+
+std::unique_ptr<const Simulator> make_imported_trajectory(std::string name, std::string file) {
+    return std::make_unique<ImportedTrajectory>(std::move(name), std::move(file));
+}
+
+std::string external_input(const Scenario& s, const std::string& name, const std::string& settings_file) {
+    const auto table = s.passthrough_tables.find(name);
+    const json j = {
+        {"protocol", kExternalProtocol},
+        {"scenario", s.name},
+        {"dimension", s.dim},
+        {"room", vector_json(s.room, s.dim)},
+        {"radius", s.radius},
+        {"position", vector_json(s.position, s.dim)},
+        {"velocity", vector_json(s.velocity, s.dim)},
+        {"gravity", vector_json(s.gravity, s.dim)},
+        {"alpha", s.alpha},
+        {"beta", s.beta},
+        {"dt", s.dt},
+        {"duration", s.duration},
+        {"steps", document_step_count(s.dt, s.duration)},
+        {"engine", table == s.passthrough_tables.end() ? json::object() : json::parse(table->second)},
+        {"settings_file", settings_file},
+    };
+    return j.dump() + "\n";
+}
+
+std::vector<Setting> parse_external_settings(const std::string& text) {
+    const json j = json::parse(text, nullptr, /*allow_exceptions=*/false);
+    if (j.is_discarded()) throw std::runtime_error("not valid JSON");
+    if (!j.is_array()) throw std::runtime_error("expected a JSON array of {\"key\", \"value\", \"why\"} objects");
+    std::vector<Setting> settings;
+    for (std::size_t i = 0; i < j.size(); ++i) {
+        const json& item = j[i];
+        const auto bad = [&](const char* why) { return std::runtime_error(fmt::format("entry {}: {}", i, why)); };
+        if (!item.is_object()) throw bad("not an object");
+        if (!item.contains("key") || !item["key"].is_string() || item["key"].get<std::string>().empty())
+            throw bad("\"key\" must be a non-empty string");
+        if (!item.contains("value")) throw bad("no \"value\"");
+        const json& value = item["value"];
+        if (!value.is_string() && !value.is_number() && !value.is_boolean())
+            throw bad("\"value\" must be a string, a number or a boolean");
+        if (item.contains("why") && !item["why"].is_string()) throw bad("\"why\" must be a string");
+        settings.push_back({item["key"].get<std::string>(), value.is_string() ? value.get<std::string>() : value.dump(),
+                            item.value("why", std::string())});
+    }
+    return settings;
+}
+
+}  // namespace bouncecheck

@@ -1,0 +1,40 @@
+// Simulators bouncecheck did not build (docs/external.md): any program that
+// speaks the external protocol, and a recorded trajectory file. Both stream
+// their states through the same reader and contact detector, so every
+// metric, comparison and report treats them as it treats an engine.
+#pragma once
+
+#include "scenarios/scenario.h"
+#include "simulators/simulator.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace bouncecheck {
+
+inline constexpr int kExternalProtocol = 1;
+inline constexpr double kDefaultExternalTimeoutSeconds = 600;
+
+// NAME=COMMAND, from --external or a scenario's [external.NAME].
+struct ExternalDeclaration {
+    std::string name;
+    std::vector<std::string> command;  // argv; the program as found (see find_program)
+};
+
+// Runs `declaration`'s program once per scenario, in the scenario's folder,
+// killed after `silence_timeout_seconds` without output.
+std::unique_ptr<const Simulator> make_external_simulator(ExternalDeclaration declaration,
+                                                         double silence_timeout_seconds);
+
+// Replays the trajectory in `file` (checked beforehand with check_trajectory_file).
+std::unique_ptr<const Simulator> make_imported_trajectory(std::string name, std::string file);
+
+// The JSON object an external program reads on its standard input.
+std::string external_input(const Scenario& s, const std::string& name, const std::string& settings_file);
+
+// The settings an external program wrote (a JSON array of {key, value, why});
+// throws std::runtime_error saying what is wrong with it.
+std::vector<Setting> parse_external_settings(const std::string& text);
+
+}  // namespace bouncecheck

@@ -1,0 +1,140 @@
+#include "external/trajectory_reader.h"
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+
+namespace bouncecheck {
+
+namespace {
+
+constexpr std::string_view kHeader2d = "t,x,y,vx,vy";
+constexpr std::string_view kHeader3d = "t,x,y,z,vx,vy,vz";
+constexpr std::array<const char*, 5> kColumns2d{"t", "x", "y", "vx", "vy"};
+constexpr std::array<const char*, 7> kColumns3d{"t", "x", "y", "z", "vx", "vy", "vz"};
+
+// Untrusted text quoted in a reason: short, one line.
+std::string quoted(std::string_view text) {
+    std::string out;
+    for (char c : text.substr(0, 40)) out += (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) ? '?' : c;
+    return fmt::format("'{}{}'", out, text.size() > 40 ? "..." : "");
+}
+
+}  // namespace
+
+std::string RowProblem::format() const {
+    return fmt::format("line {}: {}{}", line, field.empty() ? "" : field + ": ", reason);
+}
+
+TrajectoryReader::TrajectoryReader(const Scenario& s)
+    : dim_(s.dim), dt_(s.dt), header_(s.dim == 2 ? kHeader2d : kHeader3d),
+      expected_rows_(document_step_count(s.dt, s.duration) + 1), clock_(s.dt, s.duration) {
+    partial_.reserve(256);
+}
+
+bool TrajectoryReader::fail_long_line() {
+    problem_ = RowProblem{line_ + 1, "", fmt::format("a line longer than {} bytes", kMaxLineBytes)};
+    return false;
+}
+
+std::string TrajectoryReader::fmt_too_few() const {
+    return fmt::format("the trajectory ends after {} rows; the scenario's clock takes {} (steps + 1)", rows_,
+                       expected_rows_);
+}
+
+bool TrajectoryReader::take_line(std::string_view text) {
+    ++line_;
+    if (!text.empty() && text.back() == '\r') text.remove_suffix(1);
+    if (line_ == 1) {
+        if (text != header_)
+            problem_ = RowProblem{line_, "", fmt::format("expected the header '{}' ({}D scenario), got {}", header_,
+                                                         dim_, quoted(text))};
+        return false;
+    }
+    if (rows_ == expected_rows_) {
+        problem_ = RowProblem{line_, "",
+                              fmt::format("more rows than the {} the scenario's clock takes (steps + 1)", expected_rows_)};
+        return false;
+    }
+    const int fields = 1 + 2 * dim_;
+    const char* const* names = dim_ == 2 ? kColumns2d.data() : kColumns3d.data();
+    double values[7];
+    const char* at = text.data();
+    const char* const end = text.data() + text.size();
+    for (int f = 0; f < fields; ++f) {
+        const char* stop = static_cast<const char*>(std::memchr(at, ',', static_cast<std::size_t>(end - at)));
+        if (!stop) stop = end;
+        if (f < fields - 1 && stop == end) {
+            problem_ = RowProblem{line_, names[f + 1],
+                                  fmt::format("missing: the row has {} fields, expected {} ({})", f + 1, fields, header_)};
+            return false;
+        }
+        const char* from = at;
+        if (from < stop && *from == '+') ++from;  // strtod reads a leading '+'; from_chars does not
+        const auto [parsed, error] = std::from_chars(from, stop, values[f]);
+        if (from == stop || error != std::errc() || parsed != stop) {
+            const std::string_view field(at, static_cast<std::size_t>(stop - at));
+            problem_ = RowProblem{line_, names[f],
+                                  error == std::errc::result_out_of_range
+                                      ? fmt::format("{} is out of the range of a double", quoted(field))
+                                      : fmt::format("not a number: {}", quoted(field))};
+            return false;
+        }
+        if (!std::isfinite(values[f])) {
+            problem_ = RowProblem{line_, names[f], fmt::format("not finite: {}", values[f])};
+            return false;
+        }
+        at = stop + 1;
+    }
+    if (at <= end) {
+        problem_ = RowProblem{line_, "", fmt::format("more than {} fields ({})", fields, header_)};
+        return false;
+    }
+    // Sample k must be the clock's k-th: a missing or extra row would shift
+    // every comparison after it.
+    if (rows_ > 0) clock_.advance();
+    if (!(std::abs(values[0] - clock_.t()) <= 0.5 * dt_)) {
+        problem_ = RowProblem{line_, "t",
+                              fmt::format("{} is not row {}'s time on the scenario's clock ({}, dt = {})", values[0],
+                                          rows_, clock_.t(), dt_)};
+        return false;
+    }
+    state_.t = values[0];
+    for (int i = 0; i < dim_; ++i) {
+        state_.p[i] = values[1 + i];
+        state_.v[i] = values[1 + dim_ + i];
+    }
+    ++rows_;
+    return true;
+}
+
+std::optional<std::string> read_trajectory_file(const std::string& file, const Scenario& s,
+                                                const std::function<bool(const State&)>& on_state) {
+    const std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(std::fopen(file.c_str(), "rb"), &std::fclose);
+    if (!in) return fmt::format("{}: cannot open: {}", file, std::strerror(errno));
+    TrajectoryReader reader(s);
+    char buffer[65536];
+    bool more = true;
+    while (more) {
+        const std::size_t n = std::fread(buffer, 1, sizeof buffer, in.get());
+        if (n > 0 && !reader.feed({buffer, n}, on_state)) {
+            if (!reader.problem()) return std::nullopt;  // stopped by on_state
+            break;
+        }
+        if (n < sizeof buffer) {
+            if (std::ferror(in.get())) return fmt::format("{}: cannot read: {}", file, std::strerror(errno));
+            more = false;
+        }
+    }
+    if (!reader.problem() && !reader.finish(on_state) && !reader.problem()) return std::nullopt;
+    if (const auto& p = reader.problem()) return fmt::format("{}:{}: {}{}", file, p->line, p->field.empty() ? "" : p->field + ": ", p->reason);
+    return std::nullopt;
+}
+
+}  // namespace bouncecheck

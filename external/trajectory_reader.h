@@ -1,0 +1,108 @@
+// Reads a trajectory in the `--trajectories` CSV format (docs/external.md,
+// Output) as it streams in, from an external program's standard output or
+// from a file: the header, then one row per state on the document's clock.
+// Rows are parsed in place, without allocating per row, and handed on one by
+// one: the trajectory is never held in memory.
+#pragma once
+
+#include "scenarios/scenario.h"
+#include "simulators/document_clock.h"
+#include "simulators/state.h"
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace bouncecheck {
+
+// Where and why a trajectory is malformed.
+struct RowProblem {
+    std::int64_t line = 0;  // 1-based; the header is line 1
+    std::string field;      // the column ("vx"), or empty for the whole line
+    std::string reason;
+    // "line L: FIELD: REASON" (the parts that are empty left out).
+    std::string format() const;
+};
+
+class TrajectoryReader {
+public:
+    // Expects the header of s.dim and the document clock's steps + 1 rows.
+    explicit TrajectoryReader(const Scenario& s);
+
+    // A piece of the stream; `on_state(const State&)` gets each complete row
+    // and returns false to stop. False once the trajectory is malformed
+    // (problem()) or on_state said stop.
+    template <class OnState>
+    bool feed(std::string_view bytes, OnState&& on_state) {
+        while (!bytes.empty()) {
+            const std::size_t end = bytes.find('\n');
+            if (end == std::string_view::npos) {
+                if (partial_.size() + bytes.size() > kMaxLineBytes) return fail_long_line();
+                partial_.append(bytes);
+                return true;
+            }
+            std::string_view text = bytes.substr(0, end);
+            bytes.remove_prefix(end + 1);
+            if (!partial_.empty()) {
+                if (partial_.size() + text.size() > kMaxLineBytes) return fail_long_line();
+                partial_.append(text);
+                text = partial_;
+            }
+            const bool state = take_line(text);
+            partial_.clear();
+            if (problem_) return false;
+            if (state && !on_state(state_)) return false;
+        }
+        return true;
+    }
+    // The end of the stream: a last line without its newline, or too few rows.
+    template <class OnState>
+    bool finish(OnState&& on_state) {
+        if (!partial_.empty()) {
+            const bool state = take_line(partial_);
+            partial_.clear();
+            if (problem_) return false;
+            if (state && !on_state(state_)) return false;
+        }
+        if (rows_ < expected_rows_) {
+            problem_ = RowProblem{line_ + 1, "",
+                                  rows_ == 0 && line_ == 0
+                                      ? "no header: the trajectory is empty"
+                                      : fmt_too_few()};
+            return false;
+        }
+        return true;
+    }
+
+    const std::optional<RowProblem>& problem() const { return problem_; }
+    std::int64_t rows() const { return rows_; }
+    std::int64_t expected_rows() const { return expected_rows_; }
+
+private:
+    static constexpr std::size_t kMaxLineBytes = 4096;
+    // One line: the header, or a row parsed into state_. True for a row.
+    bool take_line(std::string_view text);
+    bool fail_long_line();
+    std::string fmt_too_few() const;
+
+    int dim_;
+    double dt_;
+    std::string_view header_;
+    std::int64_t expected_rows_;
+    std::int64_t line_ = 0, rows_ = 0;
+    DocumentClock clock_;
+    State state_;
+    std::string partial_;  // a line split across pieces
+    std::optional<RowProblem> problem_;
+};
+
+// Reads a whole trajectory file through a TrajectoryReader, `on_state`
+// getting each row and returning false to stop: nothing if it is a
+// trajectory of `s` (or was stopped), else what is wrong with it
+// ("FILE:LINE: FIELD: REASON", or why it cannot be read).
+std::optional<std::string> read_trajectory_file(const std::string& file, const Scenario& s,
+                                                const std::function<bool(const State&)>& on_state);
+
+}  // namespace bouncecheck

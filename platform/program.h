@@ -1,0 +1,54 @@
+// Running another program (an external simulator, docs/external.md): its
+// standard input fed, its standard output streamed to the caller as it comes,
+// a silence timeout, and nothing left behind: the program runs in a process
+// group of its own, and whatever is left of that group when the run ends is
+// killed and the program reaped.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace bouncecheck {
+
+// The executable `program` names: searched on PATH when it holds no '/',
+// else taken relative to `base` (when relative). Nothing if there is no
+// executable regular file there; `why` says what was looked at.
+std::optional<std::filesystem::path> find_program(const std::string& program, const std::filesystem::path& base,
+                                                  std::string* why = nullptr);
+
+// The last `count` non-empty lines of `text`, joined by " | " (a child's
+// standard error, for a failure's reason).
+std::string last_lines(std::string_view text, std::size_t count);
+
+struct ProgramRequest {
+    std::vector<std::string> argv;  // argv[0] is looked up on PATH unless it holds a '/'
+    std::filesystem::path cwd;      // empty: this process's
+    std::string input;              // written to standard input, which is then closed
+    // Each piece of standard output as it arrives; returning false ends the
+    // run (the program is killed).
+    std::function<bool(std::string_view)> on_output;
+    double silence_timeout_seconds = 600;  // no standard output for this long: killed
+};
+
+struct ProgramEnd {
+    enum class How { exited, signalled, timed_out, stopped, not_started } how = How::not_started;
+    int code = 0;             // exit status, or the signal
+    std::string error;        // not_started: why
+    std::string stderr_tail;  // the last lines of its standard error (last_lines)
+
+    bool succeeded() const { return how == How::exited && code == 0; }
+    // "exit status 3", "killed by signal 11 (Segmentation fault)", ... with
+    // the last lines of standard error; empty when it succeeded.
+    std::string describe(double silence_timeout_seconds) const;
+};
+
+// Runs the program to its end. Blocks; safe to call from several threads at
+// once (every descriptor is close-on-exec, SIGPIPE is held off in the calling
+// thread only).
+ProgramEnd run_program(const ProgramRequest& request);
+
+}  // namespace bouncecheck

@@ -1,0 +1,494 @@
+// External simulators and imported trajectories (docs/external.md): the
+// reader, the loader's [external.<name>], the harness's failure handling and
+// clean-up, and both example simulators through `run`, `sweep` and `stress`.
+#include "commands/run/run_pipeline.h"
+#include "external/external_simulator.h"
+#include "external/trajectory_reader.h"
+#include "metrics/summary.h"
+#include "platform/program.h"
+#include "reference/reference_simulator.h"
+#include "registry/registry.h"
+#include "scenarios/loader.h"
+#include "simulators/document_clock.h"
+#include "tests/support/cli.h"
+#include "tests/support/test_directory.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cerrno>
+#include <chrono>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <signal.h>
+#include <sys/wait.h>
+
+namespace fs = std::filesystem;
+
+namespace bouncecheck {
+namespace {
+
+using test::bouncecheck;
+using test::CliResult;
+using test::slurp;
+
+const std::string kData = BOUNCECHECK_TEST_DATA;
+const std::string kScenarios = BOUNCECHECK_SCENARIO_DIR;
+const std::string kReplay = kData + "/external/replay.sh";
+const std::string kGolden3d = kData + "/seed-3d.csv";  // the reference's seed-3d trajectory
+const std::string kPythonExample = BOUNCECHECK_EXAMPLES "/semi_implicit_euler.py";
+const std::string kEngineExample = BOUNCECHECK_ENGINE_EXAMPLE;
+
+Scenario seed(const char* name) { return load_scenario(kScenarios + "/" + name + ".toml"); }
+
+std::unique_ptr<const Simulator> replay(const std::string& name, const std::string& mode, double timeout = 600,
+                                        const std::string& path = "") {
+    std::vector<std::string> argv{kReplay, kGolden3d, mode};
+    if (!path.empty()) argv.push_back(path);
+    return make_external_simulator(ExternalDeclaration{name, argv}, timeout);
+}
+
+// The run of `sim` beside the reference, as `bouncecheck run` makes it.
+ScenarioRun run_beside_reference(const Scenario& s, std::vector<const Simulator*> sims) {
+    static const auto reference = make_reference_simulator();
+    sims.insert(sims.begin(), reference.get());
+    return run_scenario(s, RunRequest{std::move(sims), fs::temp_directory_path(), false, {}});
+}
+
+// ------------------------------------------------ the reader
+
+std::vector<State> read_all(const Scenario& s, std::string_view text, std::size_t piece,
+                            std::optional<RowProblem>* problem = nullptr) {
+    TrajectoryReader reader(s);
+    std::vector<State> states;
+    const auto keep = [&](const State& st) {
+        states.push_back(st);
+        return true;
+    };
+    bool ok = true;
+    for (std::size_t at = 0; ok && at < text.size(); at += piece) ok = reader.feed(text.substr(at, piece), keep);
+    if (ok) reader.finish(keep);
+    if (problem) *problem = reader.problem();
+    return states;
+}
+
+TEST(TrajectoryReader, ReadsTheGoldenFileTheSameInAnyPieces) {
+    const Scenario s = seed("seed-3d");
+    const std::string text = slurp(kGolden3d);
+    std::optional<RowProblem> problem;
+    const std::vector<State> whole = read_all(s, text, text.size(), &problem);
+    ASSERT_FALSE(problem) << problem->format();
+    ASSERT_EQ(whole.size(), static_cast<std::size_t>(document_step_count(s.dt, s.duration) + 1));
+    EXPECT_EQ(whole.front().p, s.position);
+    EXPECT_EQ(whole.front().v, s.velocity);
+    for (std::size_t piece : {1u, 7u, 4096u}) {
+        const std::vector<State> pieces = read_all(s, text, piece, &problem);
+        ASSERT_FALSE(problem) << piece;
+        ASSERT_EQ(pieces.size(), whole.size());
+        for (std::size_t i = 0; i < whole.size(); ++i) {
+            ASSERT_EQ(pieces[i].t, whole[i].t);
+            ASSERT_EQ(pieces[i].p, whole[i].p);
+            ASSERT_EQ(pieces[i].v, whole[i].v);
+        }
+    }
+}
+
+TEST(TrajectoryReader, AcceptsCrlfAndPlusSignsAnd2d) {
+    Scenario s = seed("seed-2d");
+    s.duration = 2 * s.dt;  // three rows
+    std::optional<RowProblem> problem;
+    const auto states =
+        read_all(s, "t,x,y,vx,vy\r\n0,+0.5,1e-1,0,0\r\n0.03,0.5,0.1,0,-1E-3\r\n0.06,0.5,0.1,0,0", 1000, &problem);
+    ASSERT_FALSE(problem) << problem->format();
+    ASSERT_EQ(states.size(), 3u);
+    EXPECT_EQ(states[0].p.x(), 0.5);
+    EXPECT_EQ(states[1].v.y(), -1e-3);
+    EXPECT_EQ(states[2].t, 0.06);
+}
+
+TEST(TrajectoryReader, NamesTheLineFieldAndReason) {
+    Scenario s = seed("seed-3d");
+    s.duration = 2 * s.dt;
+    const std::string h = "t,x,y,z,vx,vy,vz\n", row0 = "0,0.5,0.9,0.5,0,0,0\n";
+    const struct {
+        std::string text;
+        std::int64_t line;
+        std::string field, reason;
+    } cases[] = {
+        {"", 1, "", "no header: the trajectory is empty"},
+        {"t,x,y,vx,vy\n" + row0, 1, "", "expected the header 't,x,y,z,vx,vy,vz' (3D scenario), got 't,x,y,vx,vy'"},
+        {h + "0,0.5,0.9,0.5,0,0\n", 2, "vz", "missing: the row has 6 fields, expected 7"},
+        {h + "0,0.5,0.9,0.5,0,0,0,1\n", 2, "", "more than 7 fields"},
+        {h + row0 + "0.03,0.5,0.9,0.5,0,x1,0\n", 3, "vy", "not a number: 'x1'"},
+        {h + row0 + "0.03,0.5,0.9,0.5,0,,0\n", 3, "vy", "not a number: ''"},
+        {h + row0 + "0.03,0.5,0.9,inf,0,0,0\n", 3, "z", "not finite: inf"},
+        {h + row0 + "0.03,0.5,0.9,1e999,0,0,0\n", 3, "z", "out of the range of a double"},
+        {h + row0 + "0.06,0.5,0.9,0.5,0,0,0\n", 3, "t", "is not row 1's time on the scenario's clock"},
+        {h + row0 + "0.03,0.5,0.9,0.5,0,0,0\n", 4, "", "the trajectory ends after 2 rows; the scenario's clock takes 3"},
+        {h + row0 + "0.03,0.5,0.9,0.5,0,0,0\n0.06,0.5,0.9,0.5,0,0,0\n0.09,0.5,0.9,0.5,0,0,0\n", 5, "",
+         "more rows than the 3"},
+        {h + std::string(5000, '1') + "\n", 2, "", "a line longer than 4096 bytes"},
+    };
+    for (const auto& c : cases) {
+        std::optional<RowProblem> problem;
+        read_all(s, c.text, 3, &problem);
+        ASSERT_TRUE(problem) << c.text;
+        EXPECT_EQ(problem->line, c.line) << c.text;
+        EXPECT_EQ(problem->field, c.field) << c.text;
+        EXPECT_NE(problem->reason.find(c.reason), std::string::npos) << problem->reason;
+    }
+}
+
+// ------------------------------------------------ declaring one in a scenario file
+
+class ExternalDeclarations : public test::TestDirectory {
+protected:
+    std::string scenario_text(const std::string& more) const {
+        return slurp(kScenarios + "/seed-3d.toml") + "\n" + more;
+    }
+    std::vector<Diagnostic> diagnostics(const std::string& more, const std::vector<std::string>& names = {}) {
+        try {
+            load_scenario(write_file("s.toml", scenario_text(more)), names);
+        } catch (const ScenarioError& e) {
+            return e.diagnostics();
+        }
+        return {};
+    }
+};
+
+TEST_F(ExternalDeclarations, ReadsTheCommandAndPassesItsEngineTableOnAsWritten) {
+    write_file("engine.sh", "#!/bin/sh\n");
+    fs::permissions(dir_ / "engine.sh", fs::perms::owner_all);
+    const Scenario s = load_scenario(write_file("s.toml", scenario_text(R"(
+[external.mine]
+command = ["./engine.sh", "--fast"]
+[engines.mine]
+solver = "pgs"
+iterations = 20
+nested = {restitution = 0.5, on = true}
+[thresholds.mine]
+trajectory_rms = 0.2
+)")));
+    ASSERT_EQ(s.externals.count("mine"), 1u);
+    const auto& argv = s.externals.at("mine");
+    ASSERT_EQ(argv.size(), 2u);
+    EXPECT_EQ(fs::path(argv[0]), fs::absolute(dir_ / "engine.sh"));  // relative to the file's folder
+    EXPECT_EQ(argv[1], "--fast");
+    const auto table = nlohmann::json::parse(s.passthrough_tables.at("mine"));
+    EXPECT_EQ(table["solver"], "pgs");
+    EXPECT_EQ(table["iterations"], 20);
+    EXPECT_EQ(table["nested"]["restitution"], 0.5);
+    EXPECT_EQ(table["nested"]["on"], true);
+    EXPECT_EQ(s.thresholds.for_simulator("mine").trajectory_rms, 0.2);
+
+    // What the program reads: the scenario in SI units, with that table.
+    const auto input = nlohmann::json::parse(external_input(s, "mine", "/tmp/settings"));
+    EXPECT_EQ(input["protocol"], 1);
+    EXPECT_EQ(input["dimension"], 3);
+    EXPECT_EQ(input["position"].size(), 3u);
+    EXPECT_EQ(input["gravity"][2].get<double>(), s.gravity.z());
+    EXPECT_EQ(input["dt"].get<double>(), s.dt);
+    EXPECT_EQ(input["steps"], document_step_count(s.dt, s.duration));
+    EXPECT_EQ(input["engine"], table);
+    EXPECT_EQ(input["settings_file"], "/tmp/settings");
+    EXPECT_EQ(nlohmann::json::parse(external_input(s, "other", "x"))["engine"], nlohmann::json::object());
+}
+
+TEST_F(ExternalDeclarations, AcceptsTablesForExternalsDeclaredOnTheCommandLine) {
+    EXPECT_TRUE(diagnostics("[engines.cli]\nk = 1\n[thresholds.cli]\ntrajectory_max = 1\n", {"cli"}).empty());
+    const auto d = diagnostics("[engines.cli]\nk = 1\n");
+    ASSERT_EQ(d.size(), 1u);
+    EXPECT_EQ(d[0].key, "engines.cli");
+    EXPECT_NE(d[0].reason.find("unknown engine"), std::string::npos);
+}
+
+TEST_F(ExternalDeclarations, RefusesBadDeclarationsWithTheirLines) {
+    const struct {
+        std::string toml, key, reason;
+    } cases[] = {
+        {"[external.ode]\ncommand = [\"sh\"]\n", "external.ode", "a built-in simulator's name"},
+        {"[external.\".hidden\"]\ncommand = [\"sh\"]\n", "external.\".hidden\"", "must not start with '.'"},
+        {"[external.mine]\ncommand = \"sh run.sh\"\n", "external.mine.command", "non-empty array of strings"},
+        {"[external.mine]\ncommand = []\n", "external.mine.command", "non-empty array of strings"},
+        {"[external.mine]\ncommand = [\"sh\", 1]\n", "external.mine.command", "non-empty array of strings"},
+        {"[external.mine]\ncommand = [\"./missing\"]\n", "external.mine.command", "is not an executable file"},
+        {"[external.mine]\ncommand = [\"no-such-program-anywhere\"]\n", "external.mine.command", "not found on PATH"},
+        {"[external.mine]\nprogram = [\"sh\"]\n", "external.mine.command", "missing required key"},
+        {"[external.mine]\ncommand = [\"sh\"]\nextra = 1\n", "external.mine.extra", "unknown key"},
+    };
+    for (const auto& c : cases) {
+        const auto d = diagnostics(c.toml);
+        ASSERT_FALSE(d.empty()) << c.toml;
+        EXPECT_EQ(d[0].key, c.key) << c.toml;
+        EXPECT_GT(d[0].line, 30) << c.toml;  // in the appended text, past the seed's own lines
+        EXPECT_NE(d[0].reason.find(c.reason), std::string::npos) << d[0].reason;
+    }
+    const auto clash = diagnostics("[external.mine]\ncommand = [\"sh\"]\n", {"mine"});
+    ASSERT_FALSE(clash.empty());
+    EXPECT_NE(clash[0].reason.find("also declared by --external"), std::string::npos);
+}
+
+// ------------------------------------------------ running one
+
+TEST(ExternalSimulator, ReplayingTheReferenceShowsNoDivergenceAndTheSettings) {
+    const Scenario s = seed("seed-3d");
+    const auto sim = replay("copy", "settings-ok");
+    const ScenarioRun run = run_beside_reference(s, {sim.get()});
+    const SimulatorSummary& r = run.results.at(1);
+    ASSERT_EQ(r.status, RunStatus::ok) << r.reason;
+    EXPECT_EQ(r.origin, "external: " + kReplay + " " + kGolden3d + " settings-ok");
+    EXPECT_EQ(r.steps, run.results[0].steps);
+    EXPECT_EQ(r.contacts, run.results[0].contacts);
+    ASSERT_TRUE(run.comparisons[1]);
+    EXPECT_EQ(run.comparisons[1]->vs_reference.trajectory.max, 0.0);
+    EXPECT_NEAR(run.comparisons[1]->damping.normal_mean, s.alpha, 1e-9);
+    ASSERT_EQ(r.settings.size(), 3u);
+    EXPECT_EQ(r.settings[0].key, "protocol");
+    EXPECT_EQ(r.settings[1].value, "replay 1");
+    EXPECT_EQ(r.settings[2].value, "2");
+}
+
+TEST(ExternalSimulator, RunsInTheScenarioFolderWithItsInput) {
+    const Scenario s = seed("seed-3d");
+    const fs::path copy = fs::temp_directory_path() / ("bouncecheck-input-" + std::to_string(::getpid()));
+    const auto input = replay("in", "input", 600, copy.string());
+    const auto pwd = replay("pwd", "pwd");
+    const ScenarioRun run = run_beside_reference(s, {input.get(), pwd.get()});
+    ASSERT_EQ(run.results[1].status, RunStatus::ok) << run.results[1].reason;
+    const auto sent = nlohmann::json::parse(slurp(copy));
+    fs::remove(copy);
+    EXPECT_EQ(sent["scenario"], "seed-3d");
+    EXPECT_EQ(sent["steps"], run.results[0].steps);
+    EXPECT_FALSE(fs::exists(sent["settings_file"].get<std::string>()));  // removed after the run
+    EXPECT_EQ(run.results[2].status, RunStatus::failed);
+    EXPECT_NE(run.results[2].reason.find("exit status 4; stderr: " + fs::canonical(kScenarios).string()),
+              std::string::npos)
+        << run.results[2].reason;
+}
+
+TEST(ExternalSimulator, EachBrokenProgramCostsOnlyItsOwnRow) {
+    const Scenario s = seed("seed-3d");
+    const struct {
+        const char* mode;
+        std::string reason;
+    } cases[] = {
+        {"exit3", "exit status 3; stderr: engine exploded at step 9"},
+        {"segv", "killed by signal 11"},
+        {"badrow", "malformed trajectory: line 6: vx: not a number: 'abc'"},
+        {"nan", "malformed trajectory: line 4: x: not finite: nan"},
+        {"header", "malformed trajectory: line 1: expected the header"},
+        {"few", "malformed trajectory: line 101: the trajectory ends after 99 rows; the scenario's clock takes 1401"},
+        {"many", "malformed trajectory: line 1403: more rows than the 1401"},
+        {"settings-bad", "its settings file: expected a JSON array"},
+        {"hang", "no output for 0.5 s (--external-timeout): killed"},
+    };
+    std::vector<std::unique_ptr<const Simulator>> owned;
+    std::vector<const Simulator*> sims;
+    for (const auto& c : cases) {
+        owned.push_back(replay(c.mode, c.mode, 0.5));
+        sims.push_back(owned.back().get());
+    }
+    const auto good = replay("good", "ok");
+    sims.push_back(good.get());
+    const ScenarioRun run = run_beside_reference(s, sims);
+    ASSERT_EQ(run.results.size(), std::size(cases) + 2);
+    for (std::size_t i = 0; i < std::size(cases); ++i) {
+        const SimulatorSummary& r = run.results[i + 1];
+        EXPECT_EQ(r.simulator, cases[i].mode);
+        EXPECT_EQ(r.status, RunStatus::failed) << cases[i].mode;
+        EXPECT_NE(r.reason.find(cases[i].reason), std::string::npos) << cases[i].mode << ": " << r.reason;
+    }
+    const SimulatorSummary& last = run.results.back();
+    EXPECT_EQ(last.status, RunStatus::ok) << last.reason;
+    EXPECT_EQ(run.comparisons.back()->vs_reference.trajectory.max, 0.0);
+    // Every program was reaped: this process has no child left, not even a zombie.
+    EXPECT_EQ(::waitpid(-1, nullptr, WNOHANG), -1);
+    EXPECT_EQ(errno, ECHILD);
+}
+
+// A grandchild the program leaves running dies with it when it times out.
+TEST(ExternalSimulator, ATimeoutLeavesNoOrphan) {
+    const Scenario s = seed("seed-3d");
+    const fs::path pid_file = fs::temp_directory_path() / ("bouncecheck-orphan-" + std::to_string(::getpid()));
+    const auto sim = replay("orphan", "orphan", 0.5, pid_file.string());
+    const auto started = std::chrono::steady_clock::now();
+    const SimulatorSummary r = record_run(*sim, s);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    EXPECT_EQ(r.status, RunStatus::failed);
+    EXPECT_NE(r.reason.find("no output for 0.5 s"), std::string::npos) << r.reason;
+    EXPECT_LT(seconds, 10) << "the program's sleep 60 was waited for";
+    const pid_t grandchild = std::stoi(slurp(pid_file));
+    fs::remove(pid_file);
+    // Killed: gone, or a zombie until init reaps it (it is not our child).
+    std::string state = "gone";
+    for (int i = 0; i < 100; ++i) {
+        std::ifstream stat("/proc/" + std::to_string(grandchild) + "/stat");
+        std::string line;
+        if (!std::getline(stat, line)) break;
+        state = line.substr(line.rfind(')') + 2, 1);
+        if (state == "Z") break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    EXPECT_TRUE(state == "gone" || state == "Z") << "grandchild " << grandchild << " still in state " << state;
+}
+
+TEST(ImportedTrajectory, TheReferencesOwnTrajectoryShowsZeroDivergence) {
+    const Scenario s = seed("seed-3d");
+    const auto copy = make_imported_trajectory("copy", kGolden3d);
+    const ScenarioRun run = run_beside_reference(s, {copy.get()});
+    const SimulatorSummary& r = run.results.at(1);
+    ASSERT_EQ(r.status, RunStatus::ok) << r.reason;
+    EXPECT_EQ(r.origin, "imported: " + kGolden3d);
+    EXPECT_EQ(run.comparisons[1]->vs_reference.trajectory.rms, 0.0);
+    EXPECT_EQ(run.comparisons[1]->vs_reference.trajectory.max, 0.0);
+    EXPECT_EQ(r.apexes.size(), run.results[0].apexes.size());
+}
+
+// ------------------------------------------------ the examples
+
+// The C++ example steps a built simulator behind the protocol: its rows are
+// the built-in run's, bit for bit.
+TEST(ExternalExamples, TheEngineWrapperMatchesTheBuiltInSimulatorBitForBit) {
+    for (const char* scenario : {"seed-3d", "seed-2d"}) {
+        Scenario s = seed(scenario);
+        for (const auto& built : built_simulators()) {
+            const std::string engine(built->name());
+            if (engine != "reference" && engine != "ode" && engine != "box2d") continue;
+            if (built->cannot_run(s)) continue;
+            // The wrapper gets its own [engines.<name>-ext]: the built engine's settings, as a user would copy them.
+            const EngineOptions o = s.engine_options(engine);
+            nlohmann::json table = {{"tangential_model", o.tangential_model == TangentialModel::friction ? "friction"
+                                                                                                          : "per-contact"},
+                                    {"rotation", o.free_rotation ? "free" : "locked"},
+                                    {"substeps", o.substeps}};
+            if (o.tangential_model == TangentialModel::friction) table["friction"] = o.friction;
+            if (o.ccd) table["ccd"] = *o.ccd;
+            s.passthrough_tables[engine + "-ext"] = table.dump();
+            const auto wrapped = make_external_simulator(
+                ExternalDeclaration{engine + "-ext", {kEngineExample, engine}}, 600);
+            const SimulatorSummary a = record_run(*built, s), b = record_run(*wrapped, s);
+            ASSERT_EQ(b.status, RunStatus::ok) << scenario << " " << engine << ": " << b.reason;
+            SCOPED_TRACE(std::string(scenario) + " " + engine);
+            EXPECT_EQ(a.steps, b.steps) << engine;
+            EXPECT_EQ(a.contacts, b.contacts) << engine;
+            ASSERT_EQ(a.apexes.size(), b.apexes.size()) << engine;
+            for (std::size_t i = 0; i < a.apexes.size(); ++i) EXPECT_EQ(a.apexes[i].height, b.apexes[i].height);
+            EXPECT_EQ(a.final_state.p, b.final_state.p) << scenario << " " << engine;
+            EXPECT_EQ(a.final_state.v, b.final_state.v) << scenario << " " << engine;
+        }
+    }
+}
+
+// The Python example, a semi-implicit Euler with the law's per-contact
+// damping, through the command line: it measures the law's alpha and beta,
+// and is nearer exact than the explicit reference (first order both, with a
+// smaller constant).
+TEST(ExternalExamples, ThePythonSimulatorRunsInRunSweepAndStress) {
+    const fs::path out = fs::temp_directory_path() / ("bouncecheck-python-" + std::to_string(::getpid()));
+    fs::remove_all(out);
+    const std::string external = "--external 'semi=python3 " + kPythonExample + "'";
+    CliResult r = bouncecheck("run " + kScenarios + "/seed-3d.toml " + kScenarios +
+                              "/seed-2d.toml --engines reference --trajectories " + external + " --out " +
+                              (out / "run").string());
+    ASSERT_EQ(r.status, 1) << r.output;  // its divergence from the reference exceeds the seeds' thresholds
+    const auto report = nlohmann::json::parse(slurp(out / "run" / "report.json"));
+    for (const auto& sc : report["scenarios"]) {
+        const auto& semi = sc["simulators"].back();
+        ASSERT_EQ(semi["simulator"], "semi");
+        EXPECT_EQ(semi["status"], "ok") << semi.dump();
+        EXPECT_EQ(semi["origin"], "external: python3 " + kPythonExample);
+        const auto& c = semi["comparison"];
+        EXPECT_NEAR(c["damping"]["normal_mean"].get<double>(), 0.8, 1e-9) << semi.dump();
+        EXPECT_NEAR(c["damping"]["tangential_mean"].get<double>(), 0.99, 1e-9) << semi.dump();
+        EXPECT_LT(c["vs_exact"]["trajectory"]["rms"].get<double>(),
+                  0.5 * sc["simulators"][0]["comparison"]["vs_exact"]["trajectory"]["rms"].get<double>());
+        const std::string name = sc["scenario"]["name"];
+        EXPECT_TRUE(fs::exists(out / "run" / name / "semi.csv"));
+    }
+    const std::string md = slurp(out / "run" / "report.md");
+    EXPECT_NE(md.find("- semi: external: python3"), std::string::npos);
+    EXPECT_NE(slurp(out / "run" / "junit.xml").find("seed-3d.semi"), std::string::npos);
+
+    r = bouncecheck("sweep " + kScenarios + "/seed-3d.toml --engines reference --dt 0.03,0.015 --repeat 1 " +
+                    external + " --out " + (out / "sweep").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    const auto sweep = nlohmann::json::parse(slurp(out / "sweep" / "sweep.json"));
+    int semi_rows = 0;
+    for (const auto& row : sweep["rows"])
+        if (row["engine"] == "semi") {
+            ++semi_rows;
+            EXPECT_EQ(row["status"], "ok") << row.dump();
+        }
+    EXPECT_EQ(semi_rows, 2);
+
+    r = bouncecheck("stress --engines reference --only zero-gravity --only fast-5 " + external + " --out " +
+                    (out / "stress").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    const auto stress = nlohmann::json::parse(slurp(out / "stress" / "stress.json"));
+    int semi_runs = 0;
+    for (const auto& result : stress["results"])
+        if (result["simulator"] == "semi") {
+            ++semi_runs;
+            EXPECT_EQ(result["outcome"], "pass") << result.dump();
+        }
+    EXPECT_EQ(semi_runs, 2);
+    fs::remove_all(out);
+}
+
+// ------------------------------------------------ the command line
+
+TEST(ExternalCli, BadDeclarationsAreBadInput) {
+    const std::string seed3d = kScenarios + "/seed-3d.toml", seed2d = kScenarios + "/seed-2d.toml";
+    const struct {
+        std::string args, message;
+    } cases[] = {
+        {"run " + seed3d + " --external mine", "--external mine: expected NAME=COMMAND"},
+        {"run " + seed3d + " --external 'mine= '", "the command is empty"},
+        {"run " + seed3d + " --external 'exact=sh'", "'exact' is a built-in simulator's name"},
+        {"run " + seed3d + " --external 'a b=sh'", "is not usable as a folder name"},
+        {"run " + seed3d + " --external m=sh --external m=sh", "'m' is declared twice"},
+        {"run " + seed3d + " --external m=./no-such-engine", "is not an executable file"},
+        {"sweep " + seed3d + " --external m=no-such-engine-on-path", "is not found on PATH"},
+        {"stress --external m=no-such-engine-on-path", "is not found on PATH"},
+        {"run " + seed3d + " --trajectory copy", "expected NAME=FILE.csv"},
+        {"run " + seed3d + " " + seed2d + " --trajectory copy=" + kGolden3d, "say which one"},
+        {"run " + seed3d + " --trajectory copy@nope=" + kGolden3d, "no scenario named 'nope'"},
+        {"run " + seed3d + " --trajectory ode=" + kGolden3d, "a built-in simulator's name"},
+        {"run " + seed2d + " --trajectory copy=" + kGolden3d, "seed-3d.csv:1: expected the header 't,x,y,vx,vy'"},
+        {"run " + seed3d + " --trajectory copy=/no/such.csv", "/no/such.csv: cannot open"},
+        {"run " + seed3d + " --external m=sh --trajectory m=" + kGolden3d, "'m' already names a simulator"},
+    };
+    for (const auto& c : cases) {
+        const CliResult r = bouncecheck(c.args);
+        EXPECT_EQ(r.status, 2) << c.args << "\n" << r.output;
+        EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
+    }
+}
+
+TEST(ExternalCli, AFailedExternalExitsThreeWithEveryOtherResultWritten) {
+    const fs::path out = fs::temp_directory_path() / ("bouncecheck-ext-cli-" + std::to_string(::getpid()));
+    fs::remove_all(out);
+    const CliResult r = bouncecheck("run " + kScenarios + "/seed-3d.toml --engines reference --trajectories " +
+                                    "--external 'good=" + kReplay + " " + kGolden3d + " ok' --external 'bad=" +
+                                    kReplay + " " + kGolden3d + " segv' --trajectory copy=" + kGolden3d +
+                                    " --out " + out.string());
+    EXPECT_EQ(r.status, 3) << r.output;
+    EXPECT_NE(r.output.find("good (external: "), std::string::npos) << r.output;
+    const auto report = nlohmann::json::parse(slurp(out / "report.json"));
+    const auto& sims = report["scenarios"][0]["simulators"];
+    std::map<std::string, std::string> status;
+    for (const auto& sim : sims) status[sim["simulator"]] = sim["status"];
+    EXPECT_EQ(status["good"], "ok");
+    EXPECT_EQ(status["bad"], "failed");
+    EXPECT_EQ(status["copy"], "ok");
+    // The trajectory files of both good rows are the reference's, byte for byte.
+    EXPECT_EQ(slurp(out / "seed-3d" / "good.csv"), slurp(kGolden3d));
+    EXPECT_EQ(slurp(out / "seed-3d" / "copy.csv"), slurp(kGolden3d));
+    fs::remove_all(out);
+}
+
+}  // namespace
+}  // namespace bouncecheck
