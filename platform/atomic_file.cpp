@@ -1,5 +1,7 @@
 #include "platform/atomic_file.h"
 
+#include "platform/program.h"
+
 #include <fmt/format.h>
 
 #include <atomic>
@@ -42,6 +44,7 @@ void release_slot(int slot) {
 }
 
 extern "C" void remove_unfinished_and_die(int sig) {
+    kill_running_programs();
     for (Slot& slot : g_slots)
         if (slot.state.load() == kLive) ::unlink(slot.path);  // async-signal-safe
     std::signal(sig, SIG_DFL);

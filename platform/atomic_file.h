@@ -30,8 +30,9 @@ private:
 // Writes `contents` to `target` atomically.
 void write_file_atomically(const std::filesystem::path& target, std::string_view contents);
 
-// On SIGINT, SIGTERM or SIGHUP: removes every temporary file still open, then
-// dies of the same signal (so the caller's shell sees the interruption). The
+// On SIGINT, SIGTERM or SIGHUP: removes every temporary file still open and
+// kills every external program still running (program.h), then dies of the
+// same signal (so the caller's shell sees the interruption). The
 // targets are untouched: each is either absent or a complete earlier file.
 void remove_unfinished_files_on_interrupt();
 

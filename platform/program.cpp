@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <csignal>
@@ -62,6 +63,19 @@ void close_fd(int& fd) {
 }
 
 using Clock = std::chrono::steady_clock;
+
+// The process groups of the programs running now, in slots a signal handler
+// can read (kill_running_programs). 0: a free slot.
+constexpr int kGroupSlots = 256;
+std::atomic<pid_t> g_groups[kGroupSlots];
+
+int claim_group_slot(pid_t group) {
+    for (int i = 0; i < kGroupSlots; ++i) {
+        pid_t expected = 0;
+        if (g_groups[i].compare_exchange_strong(expected, group)) return i;
+    }
+    return -1;  // more programs at once than slots: that one is only killed by its run's end
+}
 
 int millis_until(Clock::time_point deadline) {
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
@@ -190,6 +204,7 @@ ProgramEnd run_program(const ProgramRequest& request) {
         for (int* fd : {&in.write, &out.read, &err.read}) close_fd(*fd);
         return end;
     }
+    const int group_slot = claim_group_slot(pid);
     for (int fd : {in.write, out.read, err.read}) ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) | O_NONBLOCK);
 
     const SigpipeHeld held;
@@ -265,6 +280,7 @@ ProgramEnd run_program(const ProgramRequest& request) {
         else if (err.read < 0) ::usleep(20000);
     }
     ::kill(-pid, SIGKILL);  // the group: the program if the harness cut it short, and any child it left
+    if (group_slot >= 0) g_groups[group_slot].store(0);  // before reaping: the group id stays ours until then
     if (err.read >= 0) drain_stderr();
     int status = 0;
     while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
@@ -283,6 +299,11 @@ ProgramEnd run_program(const ProgramRequest& request) {
         end.code = WEXITSTATUS(status);
     }
     return end;
+}
+
+void kill_running_programs() {
+    for (std::atomic<pid_t>& group : g_groups)
+        if (const pid_t g = group.load(); g > 0) ::kill(-g, SIGKILL);  // async-signal-safe
 }
 
 }  // namespace bouncecheck

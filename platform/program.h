@@ -51,4 +51,10 @@ struct ProgramEnd {
 // thread only).
 ProgramEnd run_program(const ProgramRequest& request);
 
+// Kills the process group of every program run_program is running.
+// Async-signal-safe: the interrupt handler (atomic_file.h) calls it, so that
+// a Ctrl-C does not leave a program running that the terminal's signal never
+// reached (it runs in a group of its own).
+void kill_running_programs();
+
 }  // namespace bouncecheck

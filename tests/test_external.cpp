@@ -309,6 +309,18 @@ TEST(ExternalSimulator, EachBrokenProgramCostsOnlyItsOwnRow) {
     EXPECT_EQ(errno, ECHILD);
 }
 
+// Whether `pid` is gone (or a zombie, killed, until init reaps it: it is not
+// our child), waiting up to two seconds for it.
+bool dead(pid_t pid) {
+    for (int i = 0; i < 100; ++i) {
+        std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+        std::string line;
+        if (!std::getline(stat, line) || line.substr(line.rfind(')') + 2, 1) == "Z") return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return false;
+}
+
 // A grandchild the program leaves running dies with it when it times out.
 TEST(ExternalSimulator, ATimeoutLeavesNoOrphan) {
     const Scenario s = seed("seed-3d");
@@ -322,17 +334,38 @@ TEST(ExternalSimulator, ATimeoutLeavesNoOrphan) {
     EXPECT_LT(seconds, 10) << "the program's sleep 60 was waited for";
     const pid_t grandchild = std::stoi(slurp(pid_file));
     fs::remove(pid_file);
-    // Killed: gone, or a zombie until init reaps it (it is not our child).
-    std::string state = "gone";
-    for (int i = 0; i < 100; ++i) {
-        std::ifstream stat("/proc/" + std::to_string(grandchild) + "/stat");
-        std::string line;
-        if (!std::getline(stat, line)) break;
-        state = line.substr(line.rfind(')') + 2, 1);
-        if (state == "Z") break;
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    EXPECT_TRUE(dead(grandchild)) << "the program's child " << grandchild << " outlived its timeout";
+}
+
+// Ctrl-C reaches bouncecheck, not the program in its own process group: the
+// interrupt handler kills that group before bouncecheck dies.
+TEST(ExternalCli, AnInterruptKillsTheRunningProgram) {
+    const fs::path pid_file = fs::temp_directory_path() / ("bouncecheck-interrupt-" + std::to_string(::getpid()));
+    const fs::path out = fs::temp_directory_path() / ("bouncecheck-interrupt-out-" + std::to_string(::getpid()));
+    fs::remove(pid_file);
+    const std::string scenario = kScenarios + "/seed-3d.toml", out_dir = out.string();
+    const std::string external = "hang=" + kReplay + " " + kGolden3d + " orphan " + pid_file.string();
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        ::execl(BOUNCECHECK_CLI, BOUNCECHECK_CLI, "run", scenario.c_str(), "--engines", "reference", "--external",
+                external.c_str(), "--out", out_dir.c_str(), static_cast<char*>(nullptr));
+        ::_exit(127);
     }
-    EXPECT_TRUE(state == "gone" || state == "Z") << "grandchild " << grandchild << " still in state " << state;
+    std::string written;
+    for (int i = 0; i < 500 && written.empty(); ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        written = slurp(pid_file);
+    }
+    ASSERT_FALSE(written.empty()) << "the program never started";
+    const pid_t grandchild = std::stoi(written);
+    ::kill(pid, SIGINT);
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGINT);
+    EXPECT_TRUE(dead(grandchild)) << "the program's child " << grandchild << " outlived the interrupt";
+    fs::remove(pid_file);
+    fs::remove_all(out);
 }
 
 TEST(ImportedTrajectory, TheReferencesOwnTrajectoryShowsZeroDivergence) {

@@ -36,7 +36,11 @@ struct StressOptions {
 // broke, a finding about a simulator; 3 a simulator threw or gave up, so the
 // matrix has a hole (over 1: the run is incomplete); 2 bad input.
 int command_stress(const StressOptions& opt) {
-    const auto extra = ExtraSimulators::from_options(opt.external);
+    // A program silent for longer than a run's whole budget has hung: it is
+    // killed then, not after the default ten minutes.
+    ExternalOptions external = opt.external;
+    external.timeout_seconds = std::min(external.timeout_seconds, opt.budget);
+    const auto extra = ExtraSimulators::from_options(external);
     if (!extra) return kBadInput;
     auto scenarios = load_all(scenario_files(bundled_scenario_dir() / "stress"), extra->command_line_names());
     if (!scenarios) return kBadInput;
