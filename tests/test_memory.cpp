@@ -91,4 +91,28 @@ TEST(Memory, ReferenceRunPeakDoesNotGrowWithRunLength) {
     fs::remove_all(dir);
 }
 
+// An external simulator's rows stream through the harness (docs/external.md):
+// nothing is kept per row, so a 30-fold longer run through the protocol does
+// not raise the harness's peak either. The program is the C++ example
+// wrapping the reference; the peak is bouncecheck's own or its program's,
+// whichever is larger (wait4 reports the largest of the process and the
+// children it reaped), and neither grows with the run.
+TEST(Memory, ExternalRowsStreamWithoutGrowth) {
+    const fs::path dir = fs::temp_directory_path() / ("bouncecheck-memory-ext-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    long peak_kb[2] = {};
+    const std::int64_t lengths[2] = {100000, 3000000};
+    for (int k = 0; k < 2; ++k) {
+        const ChildRun r = run_child({"run", long_scenario(dir, lengths[k]).string(), "--engines", "reference",
+                                      "--external", std::string("copy=") + BOUNCECHECK_ENGINE_EXAMPLE + " reference",
+                                      "--out", (dir / "out").string()});
+        EXPECT_EQ(r.exit_status, 0) << lengths[k] << " steps";
+        peak_kb[k] = r.peak_rss_kb;
+        EXPECT_LT(r.peak_rss_kb, 2 * kPeakCeilingKb) << lengths[k] << " steps";
+    }
+    EXPECT_LT(peak_kb[1] - peak_kb[0], 1024) << "peak RSS " << peak_kb[0] << " KB at 1e5 steps, " << peak_kb[1]
+                                             << " KB at 3e6 steps";
+    fs::remove_all(dir);
+}
+
 }  // namespace
