@@ -42,6 +42,7 @@ Command add_list_command(CLI::App& app);
 Command add_calibrate_command(CLI::App& app);
 Command add_sweep_command(CLI::App& app);
 Command add_stress_command(CLI::App& app);
+Command add_diff_command(CLI::App& app);
 
 // The folder of the bundled scenarios ($BOUNCECHECK_SCENARIOS, or the source tree's).
 std::filesystem::path bundled_scenario_dir();

@@ -400,7 +400,10 @@ nlohmann::json to_json(const RunReport& report) {
             results.push_back(result_json(run.results[i], comparison_of(run, i), run.scenario.dim));
         scenarios.push_back({{"scenario", scenario_json(run.scenario)}, {"simulators", results}});
     }
-    return {{"schema", kReportSchema}, {"bouncecheck_version", BOUNCECHECK_VERSION}, {"scenarios", scenarios}};
+    return {{"schema", kReportSchema},
+            {"bouncecheck_version", BOUNCECHECK_VERSION},
+            {"provenance", to_json(report.provenance)},
+            {"scenarios", scenarios}};
 }
 
 std::string format_summary(const RunReport& report) {
@@ -506,6 +509,8 @@ std::string format_comparison(const RunReport& report, bool colour) {
 std::string to_markdown(const RunReport& report) {
     std::string text = "# bouncecheck report\n";
     auto out = std::back_inserter(text);
+    if (!report.provenance.build.version.empty())  // a report built in code (tests) has none
+        fmt::format_to(out, "\n{}\n", md_cell(format_provenance(report.provenance)));
     for (const ScenarioRun& run : report.scenarios) {
         const Scenario& s = run.scenario;
         fmt::format_to(out, "\n## {}\n\n", md_cell(heading(s)));

@@ -5,6 +5,7 @@
 
 #include "metrics/summary.h"
 #include "reports/plot_data.h"
+#include "reports/provenance.h"
 #include "scenarios/scenario.h"
 #include "verdicts/verdicts.h"
 
@@ -38,6 +39,7 @@ struct ScenarioRun {
 
 struct RunReport {
     std::vector<ScenarioRun> scenarios;
+    Provenance provenance;  // what was run where (the machine block left out under --no-timings)
 };
 
 nlohmann::json to_json(const RunReport& report);

@@ -192,7 +192,7 @@ std::string stress_csv(const StressReport& r) {
 }
 
 nlohmann::json stress_json(const StressReport& r, const std::vector<StressCase>& cases,
-                           const nlohmann::json& parameters) {
+                           const nlohmann::json& parameters, const nlohmann::json& provenance) {
     nlohmann::json results = nlohmann::json::array();
     for (const StressResult& res : r.results) {
         nlohmann::json checks = nlohmann::json::object();
@@ -227,7 +227,7 @@ nlohmann::json stress_json(const StressReport& r, const std::vector<StressCase>&
                              {"velocity", vec(s, s.velocity)}, {"gravity", vec(s, s.gravity)}, {"alpha", s.alpha},
                              {"beta", s.beta}, {"dt", s.dt}, {"duration", s.duration}});
     }
-    return {{"schema", kStressSchema},
+    nlohmann::json out = {{"schema", kStressSchema},
             {"version", BOUNCECHECK_VERSION},
             {"parameters", parameters},
             {"monte_carlo", {{"seed", kMonteCarloSeed}, {"count", kMonteCarloCount}}},
@@ -245,12 +245,14 @@ nlohmann::json stress_json(const StressReport& r, const std::vector<StressCase>&
             {"wall_seconds", r.wall_seconds},
             {"results", std::move(results)},
             {"generated_scenarios", std::move(generated)}};
+    if (!provenance.is_null()) out["provenance"] = provenance;
+    return out;
 }
 
 void write_stress(const StressReport& r, const std::vector<StressCase>& cases, const nlohmann::json& parameters,
-                  const std::filesystem::path& out_dir) {
+                  const std::filesystem::path& out_dir, const nlohmann::json& provenance) {
     write_file_atomically(out_dir / "stress.csv", stress_csv(r));
-    write_file_atomically(out_dir / "stress.json", stress_json(r, cases, parameters).dump(2) + "\n");
+    write_file_atomically(out_dir / "stress.json", stress_json(r, cases, parameters, provenance).dump(2) + "\n");
     // A generated scenario that broke something, as a file `bouncecheck run` reproduces.
     std::set<std::string> written;
     for (const StressResult& res : r.results) {

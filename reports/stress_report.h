@@ -83,10 +83,10 @@ std::string format_stress_matrix(const StressReport& r);
 std::string format_stress_failures(const StressReport& r);
 std::string stress_csv(const StressReport& r);
 nlohmann::json stress_json(const StressReport& r, const std::vector<StressCase>& cases,
-                           const nlohmann::json& parameters);
+                           const nlohmann::json& parameters, const nlohmann::json& provenance = nullptr);
 // Writes DIR/stress.json and DIR/stress.csv, and each generated scenario that
 // failed or crashed as DIR/stress-scenarios/<name>.toml, each atomically.
 void write_stress(const StressReport& r, const std::vector<StressCase>& cases, const nlohmann::json& parameters,
-                  const std::filesystem::path& out_dir);
+                  const std::filesystem::path& out_dir, const nlohmann::json& provenance = nullptr);
 
 }  // namespace bouncecheck

@@ -52,7 +52,8 @@ std::vector<bool> pareto_front(const std::vector<SweepRow>& rows) {
     return front;
 }
 
-nlohmann::json sweep_json(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters) {
+nlohmann::json sweep_json(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters,
+                          const nlohmann::json& provenance) {
     nlohmann::json rows = nlohmann::json::array();
     const std::vector<bool> front = pareto_front(r.rows);
     for (std::size_t i = 0; i < r.rows.size(); ++i) {
@@ -73,7 +74,7 @@ nlohmann::json sweep_json(const Scenario& s, const SweepResult& r, const nlohman
     nlohmann::json orders = nlohmann::json::array();
     for (const SweepOrder& o : r.orders)
         orders.push_back({{"engine", o.engine}, {"order", json_number(o.order)}, {"points", o.points}});
-    return {{"schema", kSweepSchema},
+    nlohmann::json out = {{"schema", kSweepSchema},
             {"version", BOUNCECHECK_VERSION},
             {"scenario", s.name},
             {"dim", s.dim},
@@ -83,6 +84,8 @@ nlohmann::json sweep_json(const Scenario& s, const SweepResult& r, const nlohman
             {"parameters", parameters},
             {"rows", std::move(rows)},
             {"orders", std::move(orders)}};
+    if (!provenance.is_null()) out["provenance"] = provenance;
+    return out;
 }
 
 std::string format_sweep(const Scenario& s, const SweepResult& r) {
@@ -111,9 +114,9 @@ std::string format_sweep(const Scenario& s, const SweepResult& r) {
 }
 
 void write_sweep(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters,
-                 const std::filesystem::path& out_dir) {
+                 const std::filesystem::path& out_dir, const nlohmann::json& provenance) {
     write_file_atomically(out_dir / "sweep.csv", sweep_csv(r));
-    const nlohmann::json json = sweep_json(s, r, parameters);
+    const nlohmann::json json = sweep_json(s, r, parameters, provenance);
     write_file_atomically(out_dir / "sweep.json", json.dump(2) + "\n");
     write_file_atomically(out_dir / "sweep.html", sweep_html(json));
 }

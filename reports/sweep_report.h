@@ -50,7 +50,8 @@ std::vector<bool> pareto_front(const std::vector<SweepRow>& rows);
 // sweep.csv: engine,dt,status,error,bounce_error,ns_per_step,sec_per_sim_sec,steps
 std::string sweep_csv(const SweepResult& r);
 // sweep.json: the rows (with their Pareto flag), each engine's fitted order and the command's parameters.
-nlohmann::json sweep_json(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters);
+nlohmann::json sweep_json(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters,
+                          const nlohmann::json& provenance = nullptr);
 // The terminal table: engine, dt, error, bounce error, ns/step; each engine's order.
 std::string format_sweep(const Scenario& s, const SweepResult& r);
 // sweep.html: the work-precision plot (log-log error against cost, one line
@@ -59,6 +60,6 @@ std::string format_sweep(const Scenario& s, const SweepResult& r);
 std::string sweep_html(const nlohmann::json& sweep);
 // Writes DIR/sweep.csv, DIR/sweep.json and DIR/sweep.html, each atomically.
 void write_sweep(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters,
-                 const std::filesystem::path& out_dir);
+                 const std::filesystem::path& out_dir, const nlohmann::json& provenance = nullptr);
 
 }  // namespace bouncecheck

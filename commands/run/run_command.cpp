@@ -3,6 +3,7 @@
 // report.md, junit.xml, bounces.csv, report.html).
 #include "commands/command.h"
 
+#include "commands/diff/diff_pipeline.h"
 #include "commands/run/run_pipeline.h"
 #include "registry/registry.h"
 #include "reports/run_report.h"
@@ -14,6 +15,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <set>
+#include <variant>
 #include <string>
 #include <vector>
 
@@ -36,6 +38,9 @@ struct RunOptions {
     ThresholdSet overrides;
     ExternalOptions external;
     std::vector<std::string> trajectory_args;  // NAME=FILE or NAME@SCENARIO=FILE
+    std::string baseline;                      // a report.json or output folder to diff against
+    std::vector<std::string> tolerance_args;   // the diff's KEY=VALUE
+    double timing_ratio = 0;                   // 0: timings reported, not judged
 };
 
 // --threshold KEY=VALUE: a [thresholds] key and its limit, over every simulator's.
@@ -69,6 +74,23 @@ int command_run(RunOptions opt) {
             return kBadInput;
         }
     }
+    // The baseline is read before anything runs: a bad one is bad input.
+    DiffTolerances tolerances;
+    for (const std::string& arg : opt.tolerance_args) {
+        if (auto error = parse_tolerance(arg, tolerances)) {
+            fmt::print(stderr, "error: --tolerance {}\n", *error);
+            return kBadInput;
+        }
+    }
+    std::optional<LoadedReport> baseline;
+    if (!opt.baseline.empty()) {
+        auto loaded = load_run_report(opt.baseline);
+        if (const auto* error = std::get_if<std::string>(&loaded)) {
+            fmt::print(stderr, "error: --baseline {}\n", *error);
+            return kBadInput;
+        }
+        baseline = std::move(std::get<LoadedReport>(loaded));
+    }
     std::vector<fs::path> files(opt.files.begin(), opt.files.end());
     if (files.empty()) files = scenario_files();
     if (files.empty()) {
@@ -95,6 +117,7 @@ int command_run(RunOptions opt) {
     if (!create_out_dir(out_dir)) return kBadInput;
 
     RunReport report;
+    report.provenance = this_provenance(/*with_machine=*/!opt.no_timings);
     bool any_failed = false, any_exceeded = false;
     for (const Scenario& s : *scenarios) {
         ScenarioRun run = run_scenario(s, RunRequest{extra->for_scenario(s, *selected), out_dir, opt.trajectories, opt.overrides, /*plots=*/true,
@@ -115,8 +138,19 @@ int command_run(RunOptions opt) {
     fmt::print("{}", format_comparison(report, colour));
     write_reports(report, out_dir);
     fmt::print("\nwrote report.html, report.json, report.md, junit.xml and bounces.csv in {}\n", out_dir.string());
+    fmt::print("{}\n", format_provenance(report.provenance));
+    bool changed = false;
+    if (baseline) {
+        const ReportDiff diff =
+            diff_reports(*baseline, LoadedReport{to_json(report), (out_dir / "report.json").string()}, tolerances,
+                         opt.timing_ratio > 0 ? std::optional<double>(opt.timing_ratio) : std::nullopt);
+        fmt::print("{}", format_diff(diff));
+        write_diff(diff, out_dir);
+        fmt::print("\nwrote diff.md and diff.json in {}\n", out_dir.string());
+        changed = diff.changed();
+    }
     if (any_failed) return kSimulatorFailed;
-    return any_exceeded ? kThresholdExceeded : kOk;
+    return any_exceeded || changed ? kThresholdExceeded : kOk;
 }
 
 }  // namespace
@@ -137,6 +171,14 @@ Command add_run_command(CLI::App& app) {
     command->add_option("--threshold", opt->threshold_args,
                         "KEY=VALUE: a [thresholds] limit for every simulator, over the scenario's (repeatable)");
     add_external_options(*command, opt->external);
+    command->add_option("--baseline", opt->baseline,
+                        "Then diff against this earlier run (a report.json or output folder): exit 1 if anything "
+                        "changed beyond tolerance, diff.md and diff.json beside the reports");
+    command->add_option("--tolerance", opt->tolerance_args,
+                        "With --baseline: KEY=VALUE, as for `bouncecheck diff` (repeatable)");
+    command->add_option("--timing-ratio", opt->timing_ratio,
+                        "With --baseline: count a run time above R times the baseline's as a regression")
+        ->check(CLI::PositiveNumber);
     command->add_option("--trajectory", opt->trajectory_args,
                         "NAME=FILE.csv: compare a recorded trajectory (the --trajectories CSV format) as simulator "
                         "NAME; with several scenarios NAME@SCENARIO=FILE.csv (repeatable)");

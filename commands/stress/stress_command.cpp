@@ -5,6 +5,7 @@
 #include "commands/stress/stress_pipeline.h"
 #include "commands/stress/stress_suite.h"
 #include "registry/registry.h"
+#include "reports/provenance.h"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -92,7 +93,7 @@ int command_stress(const StressOptions& opt) {
                                     {"budget_seconds", opt.budget},
                                     {"out", out_dir.string()}};
     fmt::print("{}{}", format_stress_matrix(report), format_stress_failures(report));
-    write_stress(report, cases, parameters, out_dir);
+    write_stress(report, cases, parameters, out_dir, to_json(this_provenance(/*with_machine=*/true)));
     fmt::print("\nwrote stress.json and stress.csv in {}\n", out_dir.string());
     const auto any = [&](StressOutcome o) {
         return std::any_of(report.results.begin(), report.results.end(),

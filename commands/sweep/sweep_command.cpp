@@ -3,6 +3,7 @@
 
 #include "commands/sweep/sweep_pipeline.h"
 #include "registry/registry.h"
+#include "reports/provenance.h"
 #include "scenarios/loader.h"
 
 #include <CLI/CLI.hpp>
@@ -104,7 +105,7 @@ int command_sweep(const SweepOptions& opt) {
                                     {"jobs", opt.jobs > 0 ? opt.jobs : 0},
                                     {"out", out_dir.string()}};
     fmt::print("{}", format_sweep(s, result));
-    write_sweep(s, result, parameters, out_dir);
+    write_sweep(s, result, parameters, out_dir, to_json(this_provenance(/*with_machine=*/true)));
     fmt::print("\nwrote sweep.csv, sweep.json and sweep.html in {} ({:.2f} s)\n", out_dir.string(), wall);
     const bool any_failed = std::any_of(result.rows.begin(), result.rows.end(),
                                         [](const SweepRow& r) { return r.status == RunStatus::failed; });

@@ -1,0 +1,276 @@
+#include "commands/diff/diff_pipeline.h"
+
+#include "reports/provenance.h"
+#include "reports/run_report.h"
+#include "reports/stress_report.h"
+#include "reports/sweep_report.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace bouncecheck {
+
+namespace {
+
+using json = nlohmann::json;
+
+const json kAbsent = json::value_t::discarded;  // a field one side lacks
+
+const json& field(const json& object, const std::string& key) {
+    if (!object.is_object()) return kAbsent;
+    const auto it = object.find(key);
+    return it == object.end() ? kAbsent : *it;
+}
+
+const json& element(const json& array, std::size_t i) {
+    return array.is_array() && i < array.size() ? array[i] : kAbsent;
+}
+
+std::size_t size_of(const json& array) { return array.is_array() ? array.size() : 0; }
+
+std::string show(const json& v) {
+    if (v.is_discarded()) return "absent";
+    if (v.is_null()) return "null";
+    if (v.is_string()) return v.get<std::string>();
+    if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
+    if (v.is_number_float()) return fmt::format("{:.10g}", v.get<double>());
+    return v.dump();
+}
+
+// Compares one scenario's simulator, field by field, into `out`.
+class Differ {
+public:
+    Differ(const DiffTolerances& tolerances, ReportDiff& out, std::string scenario, std::string simulator)
+        : tolerances_(tolerances), out_(out), scenario_(std::move(scenario)), simulator_(std::move(simulator)) {}
+
+    // Any difference at all counts (statuses, counts, verdicts, settings).
+    void exact(const std::string& metric, const json& a, const json& b) {
+        if (a.is_discarded() && b.is_discarded()) return;
+        if (a.is_discarded() != b.is_discarded() || a != b) push(metric, a, b, "", std::nullopt);
+    }
+
+    // A number: a change beyond the tolerance `key` counts; null (not
+    // finite) or absent on one side only counts too.
+    void number(const std::string& metric, const std::string& key, const json& a, const json& b) {
+        if (a.is_number() && b.is_number()) {
+            const double delta = b.get<double>() - a.get<double>();
+            if (std::abs(delta) > tolerances_.by_key.at(key)) push(metric, a, b, key, delta);
+            return;
+        }
+        if (a.is_discarded() && b.is_discarded()) return;
+        if (a.is_null() && b.is_null()) return;
+        push(metric, a, b, key, std::nullopt);
+    }
+
+private:
+    void push(const std::string& metric, const json& a, const json& b, const std::string& key,
+              std::optional<double> delta) {
+        out_.changes.push_back({scenario_, simulator_, metric, show(a), show(b), key, delta});
+    }
+
+    const DiffTolerances& tolerances_;
+    ReportDiff& out_;
+    std::string scenario_, simulator_;
+};
+
+std::map<std::string, json> by_key(const json& array, const char* key, const char* value) {
+    std::map<std::string, json> out;
+    if (!array.is_array()) return out;
+    for (const json& item : array)
+        if (item.is_object() && field(item, key).is_string()) out[item[key].get<std::string>()] = field(item, value);
+    return out;
+}
+
+void diff_maps(Differ& d, const std::string& prefix, const std::map<std::string, json>& a,
+               const std::map<std::string, json>& b) {
+    std::set<std::string> keys;
+    for (const auto& [k, v] : a) keys.insert(k);
+    for (const auto& [k, v] : b) keys.insert(k);
+    for (const std::string& k : keys) {
+        const auto ia = a.find(k), ib = b.find(k);
+        d.exact(prefix + k, ia == a.end() ? kAbsent : ia->second, ib == b.end() ? kAbsent : ib->second);
+    }
+}
+
+// Field by field, what explains a change first (status, settings, verdicts),
+// then what it moved (counts, distances, damping, bounce by bounce).
+void diff_simulator(Differ& d, const json& a, const json& b) {
+    d.exact("status", field(a, "status"), field(b, "status"));
+    d.exact("reason", field(a, "reason"), field(b, "reason"));
+    if (field(a, "status") == "skipped" || field(b, "status") == "skipped") return;
+    diff_maps(d, "setting ", by_key(field(a, "settings"), "key", "value"), by_key(field(b, "settings"), "key", "value"));
+    const json &ca = field(a, "comparison"), &cb = field(b, "comparison");
+    const json &da = field(ca, "damping"), &db = field(cb, "damping");
+    d.exact("damping verdict", field(da, "verdict"), field(db, "verdict"));
+    diff_maps(d, "threshold ", by_key(field(ca, "thresholds"), "metric", "passed"),
+              by_key(field(cb, "thresholds"), "metric", "passed"));
+    for (const char* count : {"steps", "contacts", "floor_contacts", "apex_count"})
+        d.exact(count, field(a, count), field(b, count));
+    for (const char* baseline : {"vs_reference", "vs_exact"})
+        for (const char* measure : {"rms", "max"})
+            d.number(fmt::format("trajectory {} {}", measure, baseline), "trajectory",
+                     field(field(field(ca, baseline), "trajectory"), measure),
+                     field(field(field(cb, baseline), "trajectory"), measure));
+    d.number("measured alpha", "damping", field(da, "normal_mean"), field(db, "normal_mean"));
+    d.number("measured beta", "damping", field(da, "tangential_mean"), field(db, "tangential_mean"));
+    d.number("rest_time", "time", field(a, "rest_time"), field(b, "rest_time"));
+
+    const json &apexes_a = field(a, "apexes"), &apexes_b = field(b, "apexes");
+    for (std::size_t i = 0; i < std::max(size_of(apexes_a), size_of(apexes_b)); ++i) {
+        const json &x = element(apexes_a, i), &y = element(apexes_b, i);
+        d.number(fmt::format("apex[{}].height", i + 1), "height", field(x, "height"), field(y, "height"));
+        d.number(fmt::format("apex[{}].t", i + 1), "time", field(x, "t"), field(y, "t"));
+    }
+    const json &floor_a = field(a, "first_floor_contacts"), &floor_b = field(b, "first_floor_contacts");
+    for (std::size_t i = 0; i < std::max(size_of(floor_a), size_of(floor_b)); ++i) {
+        const json &x = element(floor_a, i), &y = element(floor_b, i);
+        d.number(fmt::format("floor_contact[{}].t", i + 1), "time", field(x, "t"), field(y, "t"));
+        d.number(fmt::format("floor_contact[{}].alpha", i + 1), "damping", field(x, "restitution"),
+                 field(y, "restitution"));
+    }
+    for (const char* part : {"position", "velocity"}) {
+        const json &pa = field(field(a, "final_state"), part), &pb = field(field(b, "final_state"), part);
+        for (std::size_t i = 0; i < std::max(size_of(pa), size_of(pb)); ++i)
+            d.number(fmt::format("final {}[{}]", part, i), "state", element(pa, i), element(pb, i));
+    }
+}
+
+void diff_timing(ReportDiff& out, const std::string& scenario, const std::string& simulator, const json& a,
+                 const json& b, std::optional<double> limit) {
+    const json &ta = field(a, "run_seconds"), &tb = field(b, "run_seconds");
+    if (!ta.is_number() || !tb.is_number() || ta.get<double>() <= 0) return;  // --no-timings, or not run
+    TimingChange t{scenario, simulator, ta.get<double>(), tb.get<double>(), tb.get<double>() / ta.get<double>()};
+    t.regression = limit && t.ratio > *limit;
+    out.timings.push_back(t);
+}
+
+std::map<std::string, const json*> named(const json& array, const char* key) {
+    std::map<std::string, const json*> out;
+    for (const json& item : array) out[item[key].get<std::string>()] = &item;
+    return out;
+}
+
+// Why `j` is not a run report this bouncecheck reads, if it is not.
+std::optional<std::string> not_a_run_report(const json& j) {
+    if (!j.is_object() || !j.contains("schema") || !j["schema"].is_string())
+        return "not a bouncecheck report: it has no \"schema\" field";
+    const std::string schema = j["schema"];
+    if (schema == kSweepSchema || schema == kStressSchema)
+        return fmt::format("a {} report ({}): diff compares run reports (report.json of `bouncecheck run`)",
+                           schema == kSweepSchema ? "sweep" : "stress", schema);
+    if (schema != kReportSchema)
+        return fmt::format("schema \"{}\", which this bouncecheck cannot read: it reads \"{}\" (compare reports "
+                           "written by one bouncecheck version, or rerun the old one)",
+                           schema, kReportSchema);
+    if (!j.contains("scenarios") || !j["scenarios"].is_array()) return "no \"scenarios\" array";
+    for (std::size_t i = 0; i < j["scenarios"].size(); ++i) {
+        const json& sc = j["scenarios"][i];
+        if (!field(field(sc, "scenario"), "name").is_string())
+            return fmt::format("scenarios[{}]: no scenario.name", i);
+        if (!field(sc, "simulators").is_array()) return fmt::format("scenarios[{}]: no \"simulators\" array", i);
+        for (std::size_t k = 0; k < sc["simulators"].size(); ++k)
+            if (!field(sc["simulators"][k], "simulator").is_string())
+                return fmt::format("scenarios[{}].simulators[{}]: no \"simulator\" name", i, k);
+    }
+    return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<std::string> parse_tolerance(const std::string& arg, DiffTolerances& t) {
+    const auto eq = arg.find('=');
+    if (eq == std::string::npos) return fmt::format("'{}' is not KEY=VALUE", arg);
+    const std::string key = arg.substr(0, eq), text = arg.substr(eq + 1);
+    const auto it = t.by_key.find(key);
+    if (it == t.by_key.end()) {
+        std::string keys;
+        for (const auto& [k, v] : t.by_key) keys += (keys.empty() ? "" : ", ") + k;
+        return fmt::format("'{}': unknown key ({})", key, keys);
+    }
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(value) || value < 0)
+        return fmt::format("'{}': the tolerance must be a finite number >= 0", arg);
+    it->second = value;
+    return std::nullopt;
+}
+
+std::variant<LoadedReport, std::string> load_run_report(const fs::path& path) {
+    std::error_code ec;
+    fs::path file = path;
+    if (fs::is_directory(path, ec)) {
+        file = path / "report.json";
+        if (!fs::exists(file, ec))
+            return fmt::format("{}: holds no report.json (the output folder of `bouncecheck run`?)", path.string());
+    }
+    if (!fs::exists(file, ec)) return fmt::format("{}: no such file", file.string());
+    if (!fs::is_regular_file(file, ec)) return fmt::format("{}: not a regular file", file.string());
+    std::ifstream in(file, std::ios::binary);
+    if (!in) return fmt::format("{}: cannot open", file.string());
+    std::stringstream text;
+    text << in.rdbuf();
+    LoadedReport report{json(), file.string()};
+    try {
+        report.json = json::parse(text.str());
+    } catch (const json::parse_error& e) {
+        return fmt::format("{}: not JSON: {}", file.string(), e.what());
+    }
+    if (auto why = not_a_run_report(report.json)) return fmt::format("{}: {}", file.string(), *why);
+    return report;
+}
+
+ReportDiff diff_reports(const LoadedReport& old_report, const LoadedReport& new_report,
+                        const DiffTolerances& tolerances, std::optional<double> timing_ratio) {
+    ReportDiff out;
+    out.old_source = old_report.source;
+    out.new_source = new_report.source;
+    out.old_provenance = format_provenance(field(old_report.json, "provenance"));
+    out.new_provenance = format_provenance(field(new_report.json, "provenance"));
+    out.tolerances = tolerances.by_key;
+    out.timing_ratio = timing_ratio;
+
+    const json &old_scenarios = old_report.json["scenarios"], &new_scenarios = new_report.json["scenarios"];
+    std::vector<std::string> order;  // old's order, then what only new has
+    std::map<std::string, const json*> olds, news;
+    for (const json& sc : old_scenarios) order.push_back(sc["scenario"]["name"]), olds[order.back()] = &sc;
+    for (const json& sc : new_scenarios) {
+        const std::string name = sc["scenario"]["name"];
+        if (!olds.count(name)) order.push_back(name);
+        news[name] = &sc;
+    }
+    for (const std::string& name : order) {
+        const auto a = olds.find(name), b = news.find(name);
+        if (a == olds.end() || b == news.end()) {
+            out.changes.push_back({name, "", "scenario", a == olds.end() ? "absent" : "present",
+                                   b == news.end() ? "absent" : "present", "", std::nullopt});
+            continue;
+        }
+        const json &sims_a = (*a->second)["simulators"], &sims_b = (*b->second)["simulators"];
+        const auto by_name_a = named(sims_a, "simulator"), by_name_b = named(sims_b, "simulator");
+        std::vector<std::string> sims;
+        for (const json& s : sims_a) sims.push_back(s["simulator"]);
+        for (const json& s : sims_b)
+            if (!by_name_a.count(s["simulator"].get<std::string>())) sims.push_back(s["simulator"]);
+        for (const std::string& sim : sims) {
+            const auto x = by_name_a.find(sim), y = by_name_b.find(sim);
+            if (x == by_name_a.end() || y == by_name_b.end()) {
+                out.changes.push_back({name, sim, "simulator", x == by_name_a.end() ? "absent" : "present",
+                                       y == by_name_b.end() ? "absent" : "present", "", std::nullopt});
+                continue;
+            }
+            Differ d(tolerances, out, name, sim);
+            diff_simulator(d, *x->second, *y->second);
+            diff_timing(out, name, sim, *x->second, *y->second, timing_ratio);
+        }
+    }
+    return out;
+}
+
+}  // namespace bouncecheck
