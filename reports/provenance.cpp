@@ -52,7 +52,10 @@ std::string package_of(const std::string& simulator) {
 
 void set_command_line(int argc, const char* const* argv) {
     std::string line;
-    for (int i = 0; i < argc; ++i) line += (i ? " " : "") + std::string(argv[i]);
+    for (int i = 0; i < argc; ++i) {
+        if (i > 0) line += ' ';
+        line += argv[i];
+    }
     command_line() = line;
 }
 

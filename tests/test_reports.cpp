@@ -125,7 +125,9 @@ RunReport test_report() {
     run.scenario = test_scenario();
     run.results = {reference_summary(), bullet_summary(), skipped_summary("needs <libode> & \"double\" 'ok'")};
     run.comparisons = {reference_comparison(), bullet_comparison(), std::nullopt};
-    return RunReport{{run}};
+    RunReport report;
+    report.scenarios = {run};
+    return report;
 }
 
 std::vector<std::string> lines_of(const std::string& text) {
