@@ -44,6 +44,10 @@ Command add_sweep_command(CLI::App& app);
 Command add_stress_command(CLI::App& app);
 Command add_diff_command(CLI::App& app);
 
+struct DiffJudging;
+// --tolerance and --timing-ratio, for `diff` and `run --baseline` (`what` prefixes their help).
+void add_diff_judging_options(CLI::App& command, DiffJudging& judging, const std::string& what = "");
+
 // The folder of the bundled scenarios ($BOUNCECHECK_SCENARIOS, or the source tree's).
 std::filesystem::path bundled_scenario_dir();
 // The *.toml files directly in `dir` (default: the bundled folder), by name.

@@ -19,21 +19,15 @@ namespace {
 
 struct DiffOptions {
     std::string old_path, new_path;
-    std::vector<std::string> tolerance_args;  // KEY=VALUE
-    double timing_ratio = 0;                  // 0: timings reported, not judged
+    DiffJudging judging;
     std::string out_dir = "bouncecheck-out";
 };
 
 // Exit status of diff (README): 0 nothing changed beyond tolerance, 1
 // something did, 2 bad input.
 int command_diff(const DiffOptions& opt) {
-    DiffTolerances tolerances;
-    for (const std::string& arg : opt.tolerance_args) {
-        if (auto error = parse_tolerance(arg, tolerances)) {
-            fmt::print(stderr, "error: --tolerance {}\n", *error);
-            return kBadInput;
-        }
-    }
+    const auto tolerances = opt.judging.tolerances();
+    if (!tolerances) return kBadInput;
     auto old_report = load_run_report(opt.old_path);
     auto new_report = load_run_report(opt.new_path);
     bool ok = true;
@@ -44,9 +38,8 @@ int command_diff(const DiffOptions& opt) {
         }
     }
     if (!ok || !create_out_dir(opt.out_dir)) return kBadInput;
-    const ReportDiff diff =
-        diff_reports(std::get<LoadedReport>(old_report), std::get<LoadedReport>(new_report), tolerances,
-                     opt.timing_ratio > 0 ? std::optional<double>(opt.timing_ratio) : std::nullopt);
+    const ReportDiff diff = diff_reports(std::get<LoadedReport>(old_report), std::get<LoadedReport>(new_report),
+                                         *tolerances, opt.judging.ratio());
     fmt::print("{}", format_diff(diff));
     write_diff(diff, opt.out_dir);
     fmt::print("\nwrote diff.md and diff.json in {}\n", opt.out_dir);
@@ -55,19 +48,23 @@ int command_diff(const DiffOptions& opt) {
 
 }  // namespace
 
+void add_diff_judging_options(CLI::App& command, DiffJudging& judging, const std::string& what) {
+    command.add_option("--tolerance", judging.tolerance_args,
+                       what + "KEY=VALUE: the change a kind of metric may make unnoticed (height, time, trajectory, "
+                              "damping, state; default 1e-9 each) (repeatable)");
+    command.add_option("--timing-ratio", judging.timing_ratio,
+                       what + "count a run time above R times the old one as a regression (default: timings are "
+                              "reported, not judged)")
+        ->check(CLI::PositiveNumber);
+}
+
 Command add_diff_command(CLI::App& app) {
     auto opt = std::make_shared<DiffOptions>();
     CLI::App* command = app.add_subcommand(
         "diff", "What changed between two runs: every change beyond tolerance, per scenario and simulator");
     command->add_option("old", opt->old_path, "The baseline: a report.json, or a run's output folder")->required();
     command->add_option("new", opt->new_path, "The run to compare with it: a report.json or output folder")->required();
-    command->add_option("--tolerance", opt->tolerance_args,
-                        "KEY=VALUE: the change a kind of metric may make unnoticed (height, time, trajectory, "
-                        "damping, state; default 1e-9 each) (repeatable)");
-    command->add_option("--timing-ratio", opt->timing_ratio,
-                        "Count a run time above R times the old one as a regression (default: timings are "
-                        "reported, not judged)")
-        ->check(CLI::PositiveNumber);
+    add_diff_judging_options(*command, opt->judging);
     command->add_option("--out", opt->out_dir, "Output folder for diff.md and diff.json")->capture_default_str();
     return {command, [opt] { return command_diff(*opt); }};
 }

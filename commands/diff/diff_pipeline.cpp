@@ -202,6 +202,19 @@ std::optional<std::string> parse_tolerance(const std::string& arg, DiffTolerance
     return std::nullopt;
 }
 
+std::optional<DiffTolerances> DiffJudging::tolerances() const {
+    DiffTolerances t;
+    bool ok = true;
+    for (const std::string& arg : tolerance_args) {
+        if (auto error = parse_tolerance(arg, t)) {
+            fmt::print(stderr, "error: --tolerance {}\n", *error);
+            ok = false;
+        }
+    }
+    if (!ok) return std::nullopt;
+    return t;
+}
+
 std::variant<LoadedReport, std::string> load_run_report(const fs::path& path) {
     std::error_code ec;
     fs::path file = path;

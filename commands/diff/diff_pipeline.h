@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <variant>
+#include <vector>
 
 namespace bouncecheck {
 
@@ -31,6 +32,16 @@ struct DiffTolerances {
 
 // KEY=VALUE into `t`; why not, if it is not one.
 std::optional<std::string> parse_tolerance(const std::string& arg, DiffTolerances& t);
+
+// --tolerance KEY=VALUE (repeatable) and --timing-ratio R: how `diff` and
+// `run --baseline` judge a change.
+struct DiffJudging {
+    std::vector<std::string> tolerance_args;
+    double timing_ratio = 0;  // 0: timings reported, not judged
+    // The tolerances, or nothing (each bad argument printed).
+    std::optional<DiffTolerances> tolerances() const;
+    std::optional<double> ratio() const { return timing_ratio > 0 ? std::optional<double>(timing_ratio) : std::nullopt; }
+};
 
 // A run report read from `path`: a report.json, or an output folder holding
 // one. Refused with the reason: missing, not JSON, not a run report, or a

@@ -39,8 +39,7 @@ struct RunOptions {
     ExternalOptions external;
     std::vector<std::string> trajectory_args;  // NAME=FILE or NAME@SCENARIO=FILE
     std::string baseline;                      // a report.json or output folder to diff against
-    std::vector<std::string> tolerance_args;   // the diff's KEY=VALUE
-    double timing_ratio = 0;                   // 0: timings reported, not judged
+    DiffJudging judging;
 };
 
 // --threshold KEY=VALUE: a [thresholds] key and its limit, over every simulator's.
@@ -75,13 +74,8 @@ int command_run(RunOptions opt) {
         }
     }
     // The baseline is read before anything runs: a bad one is bad input.
-    DiffTolerances tolerances;
-    for (const std::string& arg : opt.tolerance_args) {
-        if (auto error = parse_tolerance(arg, tolerances)) {
-            fmt::print(stderr, "error: --tolerance {}\n", *error);
-            return kBadInput;
-        }
-    }
+    const auto tolerances = opt.judging.tolerances();
+    if (!tolerances) return kBadInput;
     std::optional<LoadedReport> baseline;
     if (!opt.baseline.empty()) {
         auto loaded = load_run_report(opt.baseline);
@@ -142,8 +136,8 @@ int command_run(RunOptions opt) {
     bool changed = false;
     if (baseline) {
         const ReportDiff diff =
-            diff_reports(*baseline, LoadedReport{to_json(report), (out_dir / "report.json").string()}, tolerances,
-                         opt.timing_ratio > 0 ? std::optional<double>(opt.timing_ratio) : std::nullopt);
+            diff_reports(*baseline, LoadedReport{to_json(report), (out_dir / "report.json").string()}, *tolerances,
+                         opt.judging.ratio());
         fmt::print("{}", format_diff(diff));
         write_diff(diff, out_dir);
         fmt::print("\nwrote diff.md and diff.json in {}\n", out_dir.string());
@@ -174,11 +168,7 @@ Command add_run_command(CLI::App& app) {
     command->add_option("--baseline", opt->baseline,
                         "Then diff against this earlier run (a report.json or output folder): exit 1 if anything "
                         "changed beyond tolerance, diff.md and diff.json beside the reports");
-    command->add_option("--tolerance", opt->tolerance_args,
-                        "With --baseline: KEY=VALUE, as for `bouncecheck diff` (repeatable)");
-    command->add_option("--timing-ratio", opt->timing_ratio,
-                        "With --baseline: count a run time above R times the baseline's as a regression")
-        ->check(CLI::PositiveNumber);
+    add_diff_judging_options(*command, opt->judging, "With --baseline: ");
     command->add_option("--trajectory", opt->trajectory_args,
                         "NAME=FILE.csv: compare a recorded trajectory (the --trajectories CSV format) as simulator "
                         "NAME; with several scenarios NAME@SCENARIO=FILE.csv (repeatable)");
