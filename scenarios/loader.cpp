@@ -14,6 +14,8 @@
 #endif
 #include <toml++/toml.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <array>
 #include <cerrno>
@@ -543,12 +545,19 @@ std::map<std::string, std::vector<std::string>> read_externals(const toml::table
     for (const auto& [key, node] : *table) {
         const std::string name(key.str());
         const std::string path = child_key("external", name);
+        // A bad name is reported and goes no further: it names nothing, and
+        // is never quoted again unescaped.
         if (auto problem = name_problem(name)) {
             c.report(start_of(key), path, std::move(*problem));
-        } else if (std::find(kBuiltInSimulators.begin(), kBuiltInSimulators.end(), name) != kBuiltInSimulators.end()) {
+            continue;
+        }
+        if (std::find(kBuiltInSimulators.begin(), kBuiltInSimulators.end(), name) != kBuiltInSimulators.end()) {
             c.report(start_of(key), path, fmt::format("'{}' is a built-in simulator's name", name));
-        } else if (std::find(declared_elsewhere.begin(), declared_elsewhere.end(), name) != declared_elsewhere.end()) {
+            continue;
+        }
+        if (std::find(declared_elsewhere.begin(), declared_elsewhere.end(), name) != declared_elsewhere.end()) {
             c.report(start_of(key), path, fmt::format("'{}' is also declared by --external", name));
+            continue;
         }
         const toml::table* external = c.optional_table(*table, "external", name);
         if (!external) continue;
@@ -565,11 +574,16 @@ std::map<std::string, std::vector<std::string>> read_externals(const toml::table
                      "expected a non-empty array of strings: the program, then its arguments");
             continue;
         }
-        std::string why;
-        if (const auto program = find_program(argv[0], folder, &why)) {
-            if (argv[0].find('/') != std::string::npos) argv[0] = std::filesystem::absolute(*program).lexically_normal().string();
+        const bool has_path = argv[0].find('/') != std::string::npos;
+        if (const auto program = find_program(argv[0], folder)) {
+            if (has_path) argv[0] = std::filesystem::absolute(*program).lexically_normal().string();
         } else {
-            c.report(start_of(*command), child_key(path, "command"), fmt::format("cannot run the program: {}", why));
+            c.report(start_of(*command), child_key(path, "command"),
+                     argv[0].empty() ? std::string("the program's name is empty")
+                                     : fmt::format("cannot run the program \"{}\": {}", printable(argv[0]),
+                                                   has_path ? "it is not an executable file (relative to this "
+                                                              "file's folder)"
+                                                            : "it is not found on PATH"));
         }
         externals[name] = std::move(argv);
     }
@@ -591,7 +605,9 @@ std::map<std::string, EngineOptions> read_engines(const toml::table& root, Check
         const toml::table* engine = c.optional_table(*table, "engines", name);
         if (!engine) continue;
         if (known.external(name)) {  // the program's own: passed on as written
-            passthrough[name] = toml_to_json(*engine);
+            std::string text = toml_to_json(*engine);
+            if (nlohmann::json::accept(text)) passthrough[name] = std::move(text);
+            else c.report(start_of(*engine), path, "cannot be passed on as JSON");
             continue;
         }
         c.watch_table(*engine, path);

@@ -214,8 +214,11 @@ TEST_F(ExternalDeclarations, RefusesBadDeclarationsWithTheirLines) {
         {"[external.mine]\ncommand = \"sh run.sh\"\n", "external.mine.command", "non-empty array of strings"},
         {"[external.mine]\ncommand = []\n", "external.mine.command", "non-empty array of strings"},
         {"[external.mine]\ncommand = [\"sh\", 1]\n", "external.mine.command", "non-empty array of strings"},
-        {"[external.mine]\ncommand = [\"./missing\"]\n", "external.mine.command", "is not an executable file"},
+        {"[external.mine]\ncommand = [\"./missing\"]\n", "external.mine.command",
+         "cannot run the program \"./missing\": it is not an executable file"},
         {"[external.mine]\ncommand = [\"no-such-program-anywhere\"]\n", "external.mine.command", "not found on PATH"},
+        {"[external.mine]\ncommand = [\"\"]\n", "external.mine.command", "the program's name is empty"},
+        {"[external.mine]\ncommand = [\"a\\nb\"]\n", "external.mine.command", "\"a\\u000Ab\": it is not found"},
         {"[external.mine]\nprogram = [\"sh\"]\n", "external.mine.command", "missing required key"},
         {"[external.mine]\ncommand = [\"sh\"]\nextra = 1\n", "external.mine.extra", "unknown key"},
     };
