@@ -150,13 +150,13 @@ std::optional<ExtraSimulators> ExtraSimulators::from_options(const ExternalOptio
             continue;
         }
         std::string why;
-        const auto program = find_program(d.command[0], fs::current_path(), &why);
+        // It runs in the scenario's folder: a relative path is taken from where it was typed.
+        auto program = resolve_program(d.command[0], fs::current_path(), &why);
         if (!program) {
             error(fmt::format("cannot run the program: {}", why));
             continue;
         }
-        // It runs in the scenario's folder: a relative path must not change meaning there.
-        if (d.command[0].find('/') != std::string::npos) d.command[0] = fs::absolute(*program).lexically_normal().string();
+        d.command[0] = std::move(*program);
         extra.names_.push_back(d.name);
         extra.command_line_.push_back(make_external_simulator(std::move(d), options.timeout_seconds));
     }

@@ -19,7 +19,7 @@ inline constexpr double kDefaultExternalTimeoutSeconds = 600;
 // NAME=COMMAND, from --external or a scenario's [external.NAME].
 struct ExternalDeclaration {
     std::string name;
-    std::vector<std::string> command;  // argv; the program as found (see find_program)
+    std::vector<std::string> command;  // argv; the program as resolve_program gives it
 };
 
 // Runs `declaration`'s program once per scenario, in the scenario's folder,

@@ -95,22 +95,21 @@ void keep_tail(std::string& tail, std::string_view more) {
 
 }  // namespace
 
-std::optional<fs::path> find_program(const std::string& program, const fs::path& base, std::string* why) {
+std::optional<std::string> resolve_program(const std::string& program, const fs::path& base, std::string* why) {
     if (program.empty()) {
         if (why) *why = "the command is empty";
         return std::nullopt;
     }
     if (program.find('/') != std::string::npos) {
         const fs::path p = fs::path(program).is_absolute() ? fs::path(program) : base / program;
-        if (is_executable_file(p)) return p;
+        if (is_executable_file(p)) return fs::absolute(p).lexically_normal().string();
         if (why) *why = fmt::format("'{}' is not an executable file", p.string());
         return std::nullopt;
     }
     const char* path = std::getenv("PATH");
     std::stringstream dirs(path ? path : "/usr/local/bin:/usr/bin:/bin");
     for (std::string dir; std::getline(dirs, dir, ':');) {
-        const fs::path p = fs::path(dir.empty() ? "." : dir) / program;
-        if (is_executable_file(p)) return p;
+        if (is_executable_file(fs::path(dir.empty() ? "." : dir) / program)) return program;
     }
     if (why) *why = fmt::format("'{}' is not found on PATH", program);
     return std::nullopt;

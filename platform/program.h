@@ -14,11 +14,13 @@
 
 namespace bouncecheck {
 
-// The executable `program` names: searched on PATH when it holds no '/',
-// else taken relative to `base` (when relative). Nothing if there is no
-// executable regular file there; `why` says what was looked at.
-std::optional<std::filesystem::path> find_program(const std::string& program, const std::filesystem::path& base,
-                                                  std::string* why = nullptr);
+// What to run for `program` (an argv[0]) wherever the run happens: a name
+// without '/' stays as it is when PATH holds it; a path, taken relative to
+// `base` when relative, becomes absolute, so that a run in another folder
+// finds the same file. Nothing if there is no executable regular file there;
+// `why` says what was looked at.
+std::optional<std::string> resolve_program(const std::string& program, const std::filesystem::path& base,
+                                           std::string* why = nullptr);
 
 // The last `count` non-empty lines of `text`, joined by " | " (a child's
 // standard error, for a failure's reason).

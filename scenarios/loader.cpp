@@ -575,8 +575,8 @@ std::map<std::string, std::vector<std::string>> read_externals(const toml::table
             continue;
         }
         const bool has_path = argv[0].find('/') != std::string::npos;
-        if (const auto program = find_program(argv[0], folder)) {
-            if (has_path) argv[0] = std::filesystem::absolute(*program).lexically_normal().string();
+        if (auto program = resolve_program(argv[0], folder)) {
+            argv[0] = std::move(*program);
         } else {
             c.report(start_of(*command), child_key(path, "command"),
                      argv[0].empty() ? std::string("the program's name is empty")
