@@ -4,8 +4,12 @@
 // from wait4's rusage. A 1e8-step run takes about 10 s (the per-state
 // metrics and the comparison against exact), too long for the suite, so the
 // suite runs 1e5 and 1e7 steps: a hundredfold longer run must not raise the
-// peak by more than a megabyte, and both stay under 50 MB. (Measured by hand
-// for 1e8 steps: bench/README.md.)
+// peak by more than 4 MB, and both stay under 50 MB. Keeping even one byte
+// per step would add 10 MB at 1e7 steps, so 4 MB still catches any per-step
+// growth, while the peak of one run moves by up to 1.5 MB with the machine
+// (malloc's per-thread arenas follow which oneTBB threads happened to
+// allocate; seen in CI). Each length runs twice and its lower peak counts.
+// (Measured by hand for 1e8 steps: bench/README.md.)
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -52,6 +56,21 @@ ChildRun run_child(const std::vector<std::string>& args) {
     return out;
 }
 
+// The lower peak of two runs of `args`, both of which must exit 0.
+long lower_peak_kb(const std::vector<std::string>& args, const std::string& label) {
+    long lowest = 0;
+    for (int attempt = 0; attempt < 2; ++attempt) {
+        const ChildRun r = run_child(args);
+        EXPECT_EQ(r.exit_status, 0) << label;
+        EXPECT_GT(r.peak_rss_kb, 0) << label;
+        if (attempt == 0 || r.peak_rss_kb < lowest) lowest = r.peak_rss_kb;
+    }
+    return lowest;
+}
+
+// The allowed rise of the peak between a short and a long run (see the top).
+constexpr long kGrowthAllowanceKb = 4 * 1024;
+
 // seed-3d with a duration of `steps` steps, written to `dir`.
 fs::path long_scenario(const fs::path& dir, std::int64_t steps) {
     const fs::path file = dir / ("long-" + std::to_string(steps) + ".toml");
@@ -79,15 +98,14 @@ TEST(Memory, ReferenceRunPeakDoesNotGrowWithRunLength) {
     long peak_kb[2] = {};
     const std::int64_t lengths[2] = {100000, 10000000};
     for (int k = 0; k < 2; ++k) {
-        const ChildRun r = run_child({"run", long_scenario(dir, lengths[k]).string(), "--engines", "reference",
-                                      "--out", (dir / "out").string()});
-        EXPECT_EQ(r.exit_status, 0) << lengths[k] << " steps";
-        peak_kb[k] = r.peak_rss_kb;
-        EXPECT_GT(r.peak_rss_kb, 0);
-        EXPECT_LT(r.peak_rss_kb, kPeakCeilingKb) << lengths[k] << " steps";
+        const std::string label = std::to_string(lengths[k]) + " steps";
+        peak_kb[k] = lower_peak_kb(
+            {"run", long_scenario(dir, lengths[k]).string(), "--engines", "reference", "--out", (dir / "out").string()},
+            label);
+        EXPECT_LT(peak_kb[k], kPeakCeilingKb) << label;
     }
-    EXPECT_LT(peak_kb[1] - peak_kb[0], 1024) << "peak RSS " << peak_kb[0] << " KB at 1e5 steps, " << peak_kb[1]
-                                             << " KB at 1e7 steps";
+    EXPECT_LT(peak_kb[1] - peak_kb[0], kGrowthAllowanceKb)
+        << "peak RSS " << peak_kb[0] << " KB at 1e5 steps, " << peak_kb[1] << " KB at 1e7 steps";
     fs::remove_all(dir);
 }
 
@@ -103,15 +121,15 @@ TEST(Memory, ExternalRowsStreamWithoutGrowth) {
     long peak_kb[2] = {};
     const std::int64_t lengths[2] = {100000, 3000000};
     for (int k = 0; k < 2; ++k) {
-        const ChildRun r = run_child({"run", long_scenario(dir, lengths[k]).string(), "--engines", "reference",
-                                      "--external", std::string("copy=") + BOUNCECHECK_ENGINE_EXAMPLE + " reference",
-                                      "--out", (dir / "out").string()});
-        EXPECT_EQ(r.exit_status, 0) << lengths[k] << " steps";
-        peak_kb[k] = r.peak_rss_kb;
-        EXPECT_LT(r.peak_rss_kb, 2 * kPeakCeilingKb) << lengths[k] << " steps";
+        const std::string label = std::to_string(lengths[k]) + " steps";
+        peak_kb[k] = lower_peak_kb({"run", long_scenario(dir, lengths[k]).string(), "--engines", "reference",
+                                    "--external", std::string("copy=") + BOUNCECHECK_ENGINE_EXAMPLE + " reference",
+                                    "--out", (dir / "out").string()},
+                                   label);
+        EXPECT_LT(peak_kb[k], 2 * kPeakCeilingKb) << label;
     }
-    EXPECT_LT(peak_kb[1] - peak_kb[0], 1024) << "peak RSS " << peak_kb[0] << " KB at 1e5 steps, " << peak_kb[1]
-                                             << " KB at 3e6 steps";
+    EXPECT_LT(peak_kb[1] - peak_kb[0], kGrowthAllowanceKb)
+        << "peak RSS " << peak_kb[0] << " KB at 1e5 steps, " << peak_kb[1] << " KB at 3e6 steps";
     fs::remove_all(dir);
 }
 
