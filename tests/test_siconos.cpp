@@ -254,6 +254,24 @@ TEST(SiconosVsExact, FreeFlightIsTheExactParabola) {
     EXPECT_GT((back.states.back().p - exact.state_at(s.duration).p).norm(), 0.0014);  // 0.5 |g| h t: 1.5 mm
 }
 
+// Substeps: the world is stepped to the document clock's last sample, which
+// lies beyond the duration (1.02 s here). Siconos's horizon used to be 3
+// engine steps past the duration; at 128 substeps that is 0.0007 s, the last
+// steps ran past it and an assertion in TimeStepping aborted the process
+// (the stress suite's -ccd files, every run of it lost).
+TEST(SiconosSubsteps, RunToTheClocksLastSampleBeyondTheDuration) {
+    Scenario s = seed("seed-3d.toml");
+    s.duration = 1.0;  // 0.03 s steps: the clock's last sample is 1.02 s
+    EngineOptions o;
+    o.substeps = 128;
+    s.engines["siconos"] = o;
+    const auto r = run_ts(s);
+    ASSERT_EQ(r.summary.status, RunStatus::ok) << r.summary.reason;
+    ASSERT_EQ(r.states.size(), 35u);
+    EXPECT_NEAR(r.states.back().t, 1.02, 1e-12);
+    EXPECT_TRUE(r.states.back().p.allFinite());
+}
+
 // At the seed's dt: the bounces decrease and the stream measures alpha (1 -
 // |g| dt / v) at the floor: the LCP turns the velocity the step starts from.
 TEST(SiconosVsExact, SeedStepBouncesAndStaysNearTheWalls) {

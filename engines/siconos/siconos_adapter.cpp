@@ -83,8 +83,11 @@ ModelSpec model_spec(const Scenario& s, const EngineOptions& options, const Tuni
     m.restitution = s.alpha;
     m.dt = s.dt;
     // Beyond the last sample the document clock can reach (duration + dt),
-    // so that the simulation always has a next event.
-    m.final_time = s.duration + 3 * s.dt;
+    // so that the simulation always has a next event. s.dt is the engine step,
+    // dt / substeps: the clock's step is substeps of them. (With 3 engine
+    // steps, substeps = 128 stepped past T, and Siconos's next time came out
+    // NaN: an assertion in TimeStepping aborted the whole process.)
+    m.final_time = s.duration + 3 * s.dt * std::max(1, options.substeps);
     m.theta = t.theta;
     m.gamma = t.gamma;
     m.use_gamma_for_relation = t.use_gamma_for_relation;
