@@ -230,7 +230,7 @@ nlohmann::json stress_json(const StressReport& r, const std::vector<StressCase>&
     nlohmann::json out = {{"schema", kStressSchema},
             {"version", BOUNCECHECK_VERSION},
             {"parameters", parameters},
-            {"monte_carlo", {{"seed", kMonteCarloSeed}, {"count", kMonteCarloCount}}},
+            {"monte_carlo", {{"seed", r.monte_carlo.seed}, {"count", r.monte_carlo.count}}},
             {"tolerances",
              {{"finite", "every state component finite"},
               {"in_room", "penetration of the ball's surface beyond a wall <= radius / 2 (m)"},

@@ -26,11 +26,17 @@ struct StressCase {
     bool generated = false;
 };
 
-// The generated families' rows; the Monte-Carlo set's seed and size.
+// The generated families' rows; the Monte-Carlo set's default seed and size.
 inline constexpr const char* kMonteCarloRow = "monte-carlo";
 inline constexpr const char* kWallStartsRow = "wall-starts";
 inline constexpr std::uint64_t kMonteCarloSeed = 20260101;
 inline constexpr int kMonteCarloCount = 1000;
+
+// Which Monte-Carlo set a suite ran (`stress --monte-carlo COUNT --seed S`).
+struct MonteCarloSet {
+    std::uint64_t seed = kMonteCarloSeed;
+    int count = kMonteCarloCount;
+};
 
 enum class Invariant { finite, in_room, energy, time_budget, flat_cost };
 inline constexpr Invariant kInvariants[] = {Invariant::finite, Invariant::in_room, Invariant::energy,
@@ -75,6 +81,7 @@ struct StressReport {
     std::vector<StressResult> results;    // case-major, simulators in request order
     double wall_seconds = 0;
     double budget_seconds = 0;
+    MonteCarloSet monte_carlo;
 };
 
 // The terminal matrix: a row per scenario (a family as counts), a column per simulator.

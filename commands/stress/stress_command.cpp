@@ -30,6 +30,7 @@ struct StressOptions {
     std::string out_dir = "bouncecheck-out";
     std::vector<std::string> only;  // rows or scenario names
     double budget = kDefaultBudgetSeconds;
+    MonteCarloSet monte_carlo;
     ExternalOptions external;
 };
 
@@ -45,7 +46,7 @@ int command_stress(const StressOptions& opt) {
     if (!extra) return kBadInput;
     auto scenarios = load_all(scenario_files(bundled_scenario_dir() / "stress"), extra->command_line_names());
     if (!scenarios) return kBadInput;
-    std::vector<StressCase> cases = stress_suite(*scenarios);
+    std::vector<StressCase> cases = stress_suite(*scenarios, opt.monte_carlo);
     if (!opt.only.empty()) {
         std::vector<StressCase> chosen;
         for (const auto& name : opt.only) {
@@ -79,7 +80,8 @@ int command_stress(const StressOptions& opt) {
             fmt::print(stderr, "[{}/{}] {} {}: {}{}{}\n", done, total, r.scenario, r.simulator, to_string(r.outcome),
                        r.reason.empty() ? "" : ": ", r.reason);
     };
-    const StressReport report = run_stress(cases, request);
+    StressReport report = run_stress(cases, request);
+    report.monte_carlo = opt.monte_carlo;
     nlohmann::json engines = nlohmann::json::array();
     nlohmann::json origins = nlohmann::json::object();  // simulators from outside this build
     for (const Simulator* sim : request.simulators) {
@@ -120,6 +122,11 @@ Command add_stress_command(CLI::App& app) {
     command->add_option("--budget", opt->budget, "Wall-time budget of one run (s)")
         ->capture_default_str()
         ->check(CLI::Range(0.001, 86400.0));
+    command->add_option("--monte-carlo", opt->monte_carlo.count,
+                        "Size of the generated Monte-Carlo set; scenario n depends only on the seed and n")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 10'000'000));
+    command->add_option("--seed", opt->monte_carlo.seed, "Seed of the Monte-Carlo set")->capture_default_str();
     add_external_options(*command, opt->external);
     return {command, [opt] { return command_stress(*opt); }};
 }

@@ -103,11 +103,11 @@ std::vector<Scenario> wall_start_scenarios() {
     return out;
 }
 
-std::vector<StressCase> stress_suite(const std::vector<Scenario>& files) {
+std::vector<StressCase> stress_suite(const std::vector<Scenario>& files, const MonteCarloSet& monte_carlo) {
     std::vector<StressCase> cases;
     for (const Scenario& s : files) cases.push_back({s.name, s, false});
     for (Scenario& s : wall_start_scenarios()) cases.push_back({kWallStartsRow, std::move(s), true});
-    for (Scenario& s : monte_carlo_scenarios(kMonteCarloSeed, kMonteCarloCount))
+    for (Scenario& s : monte_carlo_scenarios(monte_carlo.seed, monte_carlo.count))
         cases.push_back({kMonteCarloRow, std::move(s), true});
     return cases;
 }

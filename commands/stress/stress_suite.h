@@ -18,7 +18,8 @@ namespace bouncecheck {
 double unit_draw(std::mt19937_64& g);
 
 // `count` random valid scenarios (they pass the loader's validation) from
-// `seed`: 2D or 3D, room sides 0.2-3 m, radius 0.5-20% of the smallest side,
+// `seed`, drawn one after another from one generator: scenario n depends on
+// the seed and n only, so a larger count extends a smaller one's set: 2D or 3D, room sides 0.2-3 m, radius 0.5-20% of the smallest side,
 // speeds up to 2 m/s per axis, gravity up to 10 m/s^2 (sometimes none,
 // sometimes tilted), alpha and beta over [0, 1] with 0 and 1 themselves
 // frequent, starts touching walls, dt from 2.4e-4 to 0.0625 s, 200-2000 steps.
@@ -30,6 +31,6 @@ std::vector<Scenario> wall_start_scenarios();
 
 // The whole suite: the given files' scenarios (one row each), then the
 // wall-start and Monte-Carlo families.
-std::vector<StressCase> stress_suite(const std::vector<Scenario>& files);
+std::vector<StressCase> stress_suite(const std::vector<Scenario>& files, const MonteCarloSet& monte_carlo = {});
 
 }  // namespace bouncecheck
