@@ -1,6 +1,7 @@
 #include "exact/exact_model.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -13,11 +14,17 @@ constexpr double kNever = std::numeric_limits<double>::infinity();
 // the same instant (corner/edge): designed-equal times differ by a few ulps.
 constexpr double kSimultaneous = 1e-11;
 
-// Zeno lock thresholds for walls whose tail cannot be summed in closed form
-// (see the header): remaining accumulation time (alpha < 1), and hop height
-// over room size (alpha = 1, where the remaining time is unbounded).
+// Zeno lock threshold for tails that cannot be summed in closed form (see the
+// header): the remaining accumulation time on one wall (alpha < 1), or the
+// time scale sqrt(2 E_i) / |g_i| of every pressed axis in a corner (alpha = 1).
 constexpr double kLockTime = 1e-12;
-constexpr double kLockHeight = 1e-15;
+// alpha = 1 corners (lock_corner): a pressed axis with a time scale above
+// kFarTime is not part of an accumulation whose axes are below kLockTime;
+// a corner within kStallHeight x the room size of every pressed wall that
+// has not halved its scale in kStallEvents contacts has stopped shrinking.
+constexpr double kFarTime = 1e-3;
+constexpr double kStallHeight = 1e-15;
+constexpr std::int64_t kStallEvents = 10'000;
 
 // Typical runs have tens to hundreds of contacts: one allocation per vector.
 constexpr std::size_t kInitialCapacity = 256;
@@ -200,21 +207,88 @@ void ExactModel::apply_contacts(Motion& m, const bool (&hit)[3][2]) {
 // infinite tail in closed form or, once the remaining hops are negligible,
 // lock the axis (choices and error bound in the header). alpha = 0 needs
 // neither: the normal velocity is already 0 and lock_resting_axes locks it.
-// With alpha = 1 the hops only shrink through beta (at a corner with another
-// pressed wall) and never end in finite time: only the height criterion applies.
+// With alpha = 1 a wall's hops shrink only through beta at the other walls'
+// contacts, so they can only accumulate together, in a corner: lock_corner.
 void ExactModel::settle_pressed_walls(Motion& m, const bool (&hit)[3][2]) {
-    if (!(alpha_ > 0 && alpha_ <= 1)) return;
+    if (alpha_ == 1) {
+        lock_corner(m);
+        return;
+    }
+    if (!(alpha_ > 0 && alpha_ < 1)) return;
     for (int i = 0; i < dim_; ++i) {
         for (int side = 0; side < 2; ++side) {
             const int sign = 2 * side - 1;
             if (!hit[i][side] || !(m.accel[i] * sign > 0)) continue;
-            if (alpha_ < 1 && sum_tail(m, i, sign)) return;  // the only pressed wall: gravity is along its normal
+            if (sum_tail(m, i, sign)) return;  // the only pressed wall: gravity is along its normal
             const double u = std::abs(m.v[i]), g = std::abs(m.accel[i]);
-            const bool negligible = alpha_ < 1 ? 2 * u / g / (1 - alpha_) < kLockTime
-                                               : u * u / (2 * g) < kLockHeight * size_[i];
-            if (negligible) lock_axis(m, i, sign, true);
+            if (2 * u / g / (1 - alpha_) < kLockTime) lock_axis(m, i, sign, true);
         }
     }
+}
+
+// alpha = 1 in an edge or corner: the walls that gravity presses the ball
+// into (the pressed axes) are locked together once each pressed axis's energy
+// E_i = v_i^2 / 2 + |g_i| d_i (d_i: distance from its pressed wall) gives a
+// time scale T_i = sqrt(2 E_i) / |g_i| below kLockTime. E_i never grows (its
+// own wall keeps |v_i|, the others scale v_i by beta), so the ball stays
+// within E_i / |g_i| of those walls and below sqrt(2 E_i) on their axes
+// forever: that bounds the lock's error (header). Every gravity-free axis must
+// have slowed below |g| kLockTime too, as beta < 1 does at each contact;
+// beta = 1 keeps its velocity, which contacts never change then.
+// - Two or more tiny pressed axes are locked while another pressed axis is
+//   still far (T_f >= kFarTime): the ball then slides along the edge. One
+//   nearer than that keeps being damped by the edge's contacts, so the solve
+//   goes on until it is tiny too; a lone tiny wall is never locked while
+//   another pressed axis moves (the law makes that wall hold the ball).
+// - A corner whose scale stops shrinking (no halving of the largest T_i in
+//   kStallEvents contacts) has locked its contacts into a cycle that loses
+//   almost no energy, each at the other wall's turning point (beta = 0 makes
+//   that cycle attract). Within kStallHeight x the room size of every pressed
+//   wall it is locked as it is; a larger one is resolved on and, if it ends
+//   at the event cap, stalled_corner() names it.
+void ExactModel::lock_corner(Motion& m) {
+    unsigned tiny = 0, pressed = 0, far = 0;
+    bool micro = true;
+    double g_norm = 0, scale = 0;
+    for (int i = 0; i < dim_; ++i) {
+        if (is_locked(m.locked, i) || m.accel[i] == 0) continue;
+        pressed |= 1u << i;
+        const double g = std::abs(m.accel[i]);
+        g_norm = std::hypot(g_norm, g);
+        const double energy = 0.5 * m.v[i] * m.v[i] + g * distance_to_wall(m, i, m.accel[i] < 0 ? -1 : +1);
+        const double time_scale = std::sqrt(2 * energy) / g;
+        if (time_scale < kLockTime) tiny |= 1u << i;
+        if (time_scale >= kFarTime)
+            far |= 1u << i;
+        else
+            scale = std::max(scale, time_scale);  // the corner's own axes
+        micro = micro && energy / g < kStallHeight * size_[i];
+    }
+    if (pressed == 0) return;
+    bool lock = tiny == pressed || (std::popcount(tiny) >= 2 && (tiny | far) == pressed);
+    const int corner_axes = std::popcount(pressed & ~far);
+    if (!lock && corner_axes < 2) {
+        stall_ = {};  // no corner to watch
+    } else if (!lock) {
+        // Restart the watch whenever the corner has shrunk to half its scale.
+        if (!(scale >= 0.5 * stall_.scale)) stall_ = {scale, 0, corner_axes};
+        ++stall_.contacts;
+        if (micro && stall_.contacts >= kStallEvents) {
+            lock = true;
+            tiny = pressed;
+        }
+    }
+    if (!lock) return;
+    if (beta_ < 1)
+        for (int j = 0; j < dim_; ++j)
+            if (!is_locked(m.locked, j) && m.accel[j] == 0 && !(std::abs(m.v[j]) < g_norm * kLockTime)) return;
+    for (int i = 0; i < dim_; ++i)
+        if ((tiny >> i) & 1u) lock_axis(m, i, m.accel[i] < 0 ? -1 : +1, true);
+}
+
+std::optional<double> ExactModel::stalled_corner() const {
+    if (!event_cap_hit_ || stall_.axes < 2 || stall_.contacts < kStallEvents) return std::nullopt;
+    return stall_.scale;
 }
 
 // After a bounce on `axis` with gravity purely along its normal, the hops form

@@ -3,6 +3,8 @@
 
 #include "exact/exact_model.h"
 
+#include <fmt/format.h>
+
 namespace bouncecheck {
 
 namespace {
@@ -41,7 +43,20 @@ public:
         if (model->event_cap_hit()) {
             // Past the cap the solution is not computed: no ground truth there.
             out.status = RunStatus::failed;
-            out.reason = "exact: contact-event cap reached before the end of the run (alpha = 1 pressed into a corner?)";
+            const double at = model->contacts().empty() ? 0.0 : model->contacts().back().t;
+            if (const auto scale = model->stalled_corner())
+                out.reason = fmt::format(
+                    "exact: gave up at t = {:.9g} s after {} contact events (the cap): alpha = 1 and beta = {} hold "
+                    "the ball in a corner cycle that stopped shrinking (time scale {:.3g} s: each contact comes at "
+                    "the other wall's turning point and loses almost no energy); past it there is no ground truth "
+                    "(docs/models.md)",
+                    at, ExactModel::kDefaultMaxEvents, s.beta, *scale);
+            else
+                out.reason = fmt::format(
+                    "exact: gave up at t = {:.9g} s after {} contact events (the cap), before the end of the run; "
+                    "past it there is no ground truth (docs/models.md: an elastic wall holding the ball, or more "
+                    "real contacts than the cap)",
+                    at, ExactModel::kDefaultMaxEvents);
         }
         return out;
     }

@@ -1,4 +1,5 @@
 // Test helper: reads a numeric CSV with a header line into rows of doubles.
+// Lines starting with '#' before the header are kept as comments.
 #pragma once
 
 #include <cstdlib>
@@ -11,6 +12,7 @@
 namespace bouncecheck::test {
 
 struct Csv {
+    std::vector<std::string> comments;
     std::vector<std::string> header;
     std::vector<std::vector<double>> rows;
 };
@@ -27,7 +29,7 @@ inline Csv read_csv(const std::string& path) {
     if (!in) throw std::runtime_error("cannot open " + path);
     Csv csv;
     std::string line;
-    std::getline(in, line);
+    while (std::getline(in, line) && line.starts_with('#')) csv.comments.push_back(line);
     csv.header = split_commas(line);
     while (std::getline(in, line)) {
         std::vector<double> row;
