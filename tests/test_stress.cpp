@@ -469,6 +469,32 @@ TEST_F(StressCli, MatrixAndFiles) {
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 32);
 }
 
+// --monte-carlo and --seed choose the generated set; a larger set extends
+// the default one, whose scenario 7 is the same in both.
+TEST_F(StressCli, MonteCarloSizeAndSeed) {
+    const auto r = test::bouncecheck("stress --engines exact --only monte-carlo --monte-carlo 1200 --out " +
+                                     out_.string());
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("1200/1200"), std::string::npos) << r.output;
+    const auto json = nlohmann::json::parse(test::slurp(out_ / "stress.json"));
+    EXPECT_EQ(json["monte_carlo"]["count"], 1200);
+    EXPECT_EQ(json["monte_carlo"]["seed"], kMonteCarloSeed);
+    ASSERT_EQ(json["generated_scenarios"].size(), 1200u);
+    EXPECT_EQ(json["generated_scenarios"][1199]["name"], "monte-carlo-1199");
+    const Scenario seventh = monte_carlo_scenarios(kMonteCarloSeed, kMonteCarloCount)[7];
+    EXPECT_EQ(json["generated_scenarios"][7]["dt"], seventh.dt);
+    EXPECT_EQ(json["generated_scenarios"][7]["alpha"], seventh.alpha);
+
+    const auto other = test::bouncecheck("stress --engines exact --only monte-carlo --monte-carlo 5 --seed 7 --out " +
+                                         out_.string());
+    EXPECT_EQ(other.status, 0) << other.output;
+    const auto seeded = nlohmann::json::parse(test::slurp(out_ / "stress.json"));
+    EXPECT_EQ(seeded["monte_carlo"]["seed"], 7);
+    ASSERT_EQ(seeded["generated_scenarios"].size(), 5u);
+    EXPECT_EQ(seeded["generated_scenarios"][3]["dt"], monte_carlo_scenarios(7, 5)[3].dt);
+    EXPECT_EQ(test::bouncecheck("stress --monte-carlo -1 --out " + out_.string()).status, 2);
+}
+
 #ifdef BOUNCECHECK_WITH_BULLET
 TEST_F(StressCli, BrokenInvariantExitsOneAndIsNamed) {
     const auto r = test::bouncecheck("stress --engines bullet --only fast-20 fast-20-ccd --out " + out_.string());
