@@ -3,6 +3,7 @@
 #include "exact/exact_model.h"
 #include "reference/reference_model.h"
 #include "scenarios/loader.h"
+#include "support/convergence.h"
 
 #include <gtest/gtest.h>
 
@@ -30,22 +31,6 @@ double trajectory_rms(const Scenario& s, const ExactModel& exact, double horizon
     return std::sqrt(sum / static_cast<double>(n));
 }
 
-// Least-squares slope of log(error) against log(dt).
-double fitted_order(const std::vector<double>& dts, const std::vector<double>& errors) {
-    double mx = 0, my = 0;
-    const double n = static_cast<double>(dts.size());
-    for (size_t i = 0; i < dts.size(); ++i) {
-        mx += std::log(dts[i]) / n;
-        my += std::log(errors[i]) / n;
-    }
-    double sxy = 0, sxx = 0;
-    for (size_t i = 0; i < dts.size(); ++i) {
-        sxy += (std::log(dts[i]) - mx) * (std::log(errors[i]) - my);
-        sxx += (std::log(dts[i]) - mx) * (std::log(dts[i]) - mx);
-    }
-    return sxy / sxx;
-}
-
 void expect_first_order(const std::string& file) {
     Scenario s = load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/" + file);
     const ExactModel exact(s);
@@ -61,7 +46,7 @@ void expect_first_order(const std::string& file) {
         errors.push_back(e);
         ::testing::Test::RecordProperty("rms_dt_" + std::to_string(dt), std::to_string(e));
     }
-    const double order = fitted_order(dts, errors);
+    const double order = test::fitted_order(dts, errors);
     ::testing::Test::RecordProperty("order", std::to_string(order));
     std::printf("%s: fitted order %.3f over dt %.3g .. %.3g (rms %.3g .. %.3g m)\n", file.c_str(), order, dts.front(),
                 dts.back(), errors.front(), errors.back());

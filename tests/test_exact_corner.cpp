@@ -8,6 +8,7 @@
 #include "exact/exact_model.h"
 #include "reference/reference_model.h"
 #include "scenarios/loader.h"
+#include "support/convergence.h"
 #include "support/csv.h"
 
 #include <gtest/gtest.h>
@@ -199,22 +200,6 @@ TEST(ExactCorner, ALargerStalledCycleEndsAtTheCapAndIsNamed) {
     EXPECT_FALSE(ExactModel(load_scenario(kDir + "monte-carlo-0149.toml"), 500).stalled_corner().has_value());
 }
 
-// Least-squares slope of log(error) against log(dt).
-double fitted_order(const std::vector<double>& dts, const std::vector<double>& errors) {
-    double mx = 0, my = 0;
-    const double n = static_cast<double>(dts.size());
-    for (std::size_t i = 0; i < dts.size(); ++i) {
-        mx += std::log(dts[i]) / n;
-        my += std::log(errors[i]) / n;
-    }
-    double sxy = 0, sxx = 0;
-    for (std::size_t i = 0; i < dts.size(); ++i) {
-        sxy += (std::log(dts[i]) - mx) * (std::log(errors[i]) - my);
-        sxx += (std::log(dts[i]) - mx) * (std::log(dts[i]) - mx);
-    }
-    return sxy / sxx;
-}
-
 // At every sample, the reference stepped at dt / 16 ... dt / 2048 approaches
 // exact at first order: over the whole run, and from 10% before the
 // accumulation to the end. Coarser steps are left out: there the error has
@@ -256,7 +241,7 @@ TEST(ExactCorner, ReferenceApproachesExactAtFirstOrderThroughTheAccumulation) {
             whole.push_back(std::sqrt(sum / static_cast<double>(n)));
             through.push_back(std::sqrt(sum_through / static_cast<double>(n_through)));
         }
-        const double order = fitted_order(dts, whole), order_through = fitted_order(dts, through);
+        const double order = test::fitted_order(dts, whole), order_through = test::fitted_order(dts, through);
         std::printf("%s: fitted order %.2f over the run, %.2f from 0.9 x accumulation (rms %.3g .. %.3g m)\n", name,
                     order, order_through, whole.front(), whole.back());
         EXPECT_GT(order, 0.65) << name;
