@@ -1,30 +1,48 @@
 // The parallel schedule the sweep and the stress suite share: every
-// (simulator, item) pair on oneTBB's threads, with the simulators that must
-// not run alongside themselves (Simulator::serial_reason) kept to one pair at
-// a time.
+// (simulator, item) pair in a pool of long-lived worker processes, forked from
+// this one, so that
+// - every engine runs in parallel: processes share no library state, so even
+//   engines with global state (ODE, Box2D, Siconos, DART) run side by side;
+// - a pair that crashes the process (an engine's abort or assert) costs that
+//   pair only: its worker is replaced;
+// - a pair that hangs, even inside one engine step, is killed by a watchdog.
 #pragma once
 
 #include <cstddef>
 #include <functional>
+#include <string>
 
 namespace bouncecheck {
 
-struct PairSchedule {
-    int jobs = 0;  // worker threads; 0: every core
-    // Relative cost of an item (e.g. its step count): the costliest pairs start first.
-    std::function<double(std::size_t item)> cost;
-    // Whether a simulator's pairs must run one after another, never alongside
-    // each other (a library state that is not safe across threads).
-    std::function<bool(std::size_t simulator)> serial;
-    // Runs one pair; called from a worker thread, each pair exactly once.
-    std::function<void(std::size_t simulator, std::size_t item)> run;
-    // After each pair, under a lock: `done` pairs finished so far.
-    std::function<void(std::size_t simulator, std::size_t item, std::size_t done)> finished;
+// What became of one pair.
+struct PairOutcome {
+    enum class Kind { ok, crashed, hung };
+    Kind kind = Kind::ok;
+    std::string payload;  // ok: the bytes the pair's `run` returned
+    // crashed or hung: why ("signal 6 (Aborted)", "no result after ...", an
+    // exception's message), with the last lines the worker wrote to stderr.
+    std::string failure;
 };
 
-// Runs every pair of [0, simulators) x [0, items). A serial simulator's pairs
-// form one task, in item order; every other pair is a task of its own,
-// costliest first; one task per TBB chunk, so a long task never holds up others.
+struct PairSchedule {
+    int jobs = 0;  // worker processes; 0: one per core
+    // Relative cost of an item (e.g. its step count): the costliest pairs start first.
+    std::function<double(std::size_t item)> cost;
+    // Wall time after which a pair is killed with its worker and reported
+    // hung (s); 0: no limit.
+    double deadline_seconds = 0;
+    // Runs one pair, in a worker process, and returns its result as bytes. An
+    // exception is a crashed pair with its message.
+    std::function<std::string(std::size_t simulator, std::size_t item)> run;
+    // In this process, as each pair ends, in the order they end: what became
+    // of it, and `done` pairs ended so far.
+    std::function<void(std::size_t simulator, std::size_t item, const PairOutcome& outcome, std::size_t done)>
+        finished;
+};
+
+// Runs every pair of [0, simulators) x [0, items), costliest first, one pair
+// at a time per worker; min(jobs, pairs) workers are started once, not per
+// pair (a fork costs about 3 ms), and replaced when one dies or is killed.
 void run_pairs_in_parallel(std::size_t simulators, std::size_t items, const PairSchedule& schedule);
 
 }  // namespace bouncecheck

@@ -29,6 +29,7 @@ const char* to_string(StressOutcome o) {
         case StressOutcome::fail: return "fail";
         case StressOutcome::skipped: return "skipped";
         case StressOutcome::crashed: return "crashed";
+        case StressOutcome::hung: return "hung";
     }
     return "?";
 }
@@ -62,19 +63,22 @@ std::string cell(const std::vector<const StressResult*>& results) {
             case StressOutcome::pass: return "pass";
             case StressOutcome::skipped: return "-";
             case StressOutcome::crashed: return "CRASH";
+            case StressOutcome::hung: return "HUNG";
             case StressOutcome::fail: return fmt::format("FAIL {}", short_name(r.first_broken()->invariant));
         }
     }
-    int pass = 0, ran = 0, crashed = 0;
+    int pass = 0, ran = 0, crashed = 0, hung = 0;
     for (const StressResult* r : results) {
         if (r->outcome == StressOutcome::skipped) continue;
         ++ran;
         pass += r->outcome == StressOutcome::pass;
         crashed += r->outcome == StressOutcome::crashed;
+        hung += r->outcome == StressOutcome::hung;
     }
     if (ran == 0) return "-";
     std::string out = fmt::format("{}/{}", pass, ran);
     if (crashed) out += fmt::format(" {}C", crashed);
+    if (hung) out += fmt::format(" {}H", hung);
     return out;
 }
 
@@ -116,7 +120,8 @@ std::string format_stress_matrix(const StressReport& r) {
         }
         out += "\n";
     }
-    out += "  pass: every invariant held; FAIL <first invariant broken>; - skipped; families: passed/ran, C crashed\n";
+    out += "  pass: every invariant held; FAIL <first invariant broken>; - skipped; CRASH; HUNG killed by the "
+           "watchdog; families: passed/ran, C crashed, H hung\n";
     out += fmt::format("  tolerances: finite state; room: penetration <= r/2; energy: rise <= 1% of the starting "
                        "energy + k^2 |g|^2 dt^2; time: {:g} s per run; cost: late ns/step <= {:g}x early\n",
                        r.budget_seconds, kCostRatioLimit);
@@ -129,7 +134,7 @@ std::string format_stress_failures(const StressReport& r) {
     std::map<std::pair<std::string, std::string>, int> listed;  // (row, simulator) -> lines so far
     std::map<std::pair<std::string, std::string>, int> hidden;
     for (const StressResult& res : r.results) {
-        if (res.outcome != StressOutcome::fail && res.outcome != StressOutcome::crashed) continue;
+        if (res.outcome == StressOutcome::pass || res.outcome == StressOutcome::skipped) continue;
         const auto key = std::pair(res.row, res.simulator);
         if (res.row != res.scenario && listed[key] >= kPerFamily) {
             ++hidden[key];
@@ -137,8 +142,8 @@ std::string format_stress_failures(const StressReport& r) {
         }
         ++listed[key];
         const std::string name = res.row == res.scenario ? res.scenario : fmt::format("{}/{}", res.row, res.scenario);
-        if (res.outcome == StressOutcome::crashed) {
-            out += fmt::format("  {} / {}: crashed: {}\n", name, res.simulator, res.reason);
+        if (res.outcome == StressOutcome::crashed || res.outcome == StressOutcome::hung) {
+            out += fmt::format("  {} / {}: {}: {}\n", name, res.simulator, to_string(res.outcome), res.reason);
             continue;
         }
         for (const InvariantCheck& c : res.checks) {
@@ -256,7 +261,7 @@ void write_stress(const StressReport& r, const std::vector<StressCase>& cases, c
     // A generated scenario that broke something, as a file `bouncecheck run` reproduces.
     std::set<std::string> written;
     for (const StressResult& res : r.results) {
-        if (res.outcome != StressOutcome::fail && res.outcome != StressOutcome::crashed) continue;
+        if (res.outcome == StressOutcome::pass || res.outcome == StressOutcome::skipped) continue;
         const auto c = std::find_if(cases.begin(), cases.end(),
                                     [&](const StressCase& k) { return k.generated && k.scenario.name == res.scenario; });
         if (c == cases.end() || !written.insert(res.scenario).second) continue;

@@ -60,13 +60,15 @@ struct InvariantCheck {
     double first_value = 0;         // the value there
 };
 
-enum class StressOutcome { pass, fail, skipped, crashed };
+// crashed: the simulator threw, gave up, or took its process down; hung: no
+// result within the watchdog's limit (stress_deadline_seconds), its process killed.
+enum class StressOutcome { pass, fail, skipped, crashed, hung };
 const char* to_string(StressOutcome o);
 
 struct StressResult {
     std::string row, scenario, simulator;
     StressOutcome outcome = StressOutcome::pass;
-    std::string reason;  // skipped or crashed: why; fail: the first invariant broken
+    std::string reason;  // skipped, crashed or hung: why; fail: the first invariant broken
     std::vector<InvariantCheck> checks;  // one per kInvariants, in that order
     std::int64_t steps = 0;
     double run_seconds = 0;
@@ -86,13 +88,13 @@ struct StressReport {
 
 // The terminal matrix: a row per scenario (a family as counts), a column per simulator.
 std::string format_stress_matrix(const StressReport& r);
-// Every failed or crashed run, one line each, families included.
+// Every failed, crashed or hung run, one line each, families included.
 std::string format_stress_failures(const StressReport& r);
 std::string stress_csv(const StressReport& r);
 nlohmann::json stress_json(const StressReport& r, const std::vector<StressCase>& cases,
                            const nlohmann::json& parameters, const nlohmann::json& provenance = nullptr);
 // Writes DIR/stress.json and DIR/stress.csv, and each generated scenario that
-// failed or crashed as DIR/stress-scenarios/<name>.toml, each atomically.
+// failed, crashed or hung as DIR/stress-scenarios/<name>.toml, each atomically.
 void write_stress(const StressReport& r, const std::vector<StressCase>& cases, const nlohmann::json& parameters,
                   const std::filesystem::path& out_dir, const nlohmann::json& provenance = nullptr);
 

@@ -15,6 +15,9 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
+#include <iterator>
+#include <vector>
 #include <sstream>
 #include <chrono>
 #include <cmath>
@@ -25,6 +28,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -208,6 +212,61 @@ TEST(StressInvariants, ThrowingSimulatorIsACrash) {
     const StressResult r = run_double(flight(), throwing);
     EXPECT_EQ(r.outcome, StressOutcome::crashed);
     EXPECT_NE(r.reason.find("solver exploded"), std::string::npos) << r.reason;
+}
+
+// --- worker processes: a crash or a hang costs its own run only ---
+
+Scenario named(std::string name) {
+    Scenario s = flight();
+    s.name = std::move(name);
+    return s;
+}
+
+TEST(StressWorkers, AnAbortingEngineCostsItsOwnRunOnly) {
+    const ScriptedSimulator aborting([](std::int64_t n, const Scenario& s) {
+        if (n == 3 && s.name == "doomed") std::abort();
+        return free_flight(n, s);
+    });
+    const std::vector<StressCase> cases{{"a", named("a"), false}, {"doomed", named("doomed"), false},
+                                        {"b", named("b"), false}};
+    StressRequest request;
+    request.simulators = {&aborting};
+    request.jobs = 2;
+    const StressReport report = run_stress(cases, request);
+    ASSERT_EQ(report.results.size(), 3u);
+    EXPECT_EQ(report.results[0].outcome, StressOutcome::pass) << report.results[0].reason;
+    EXPECT_EQ(report.results[2].outcome, StressOutcome::pass) << report.results[2].reason;
+    const StressResult& crashed = report.results[1];
+    EXPECT_EQ(crashed.outcome, StressOutcome::crashed);
+    EXPECT_EQ(crashed.reason.rfind("signal 6", 0), 0u) << crashed.reason;
+    EXPECT_EQ(crashed.scenario, "doomed");
+    EXPECT_EQ(crashed.simulator, "scripted");
+    // What a worker computed crosses the pipe whole: the checks of a passing run.
+    EXPECT_EQ(report.results[0].checks.size(), std::size(kInvariants));
+    EXPECT_EQ(report.results[0].steps, 100);
+}
+
+TEST(StressWorkers, AStepThatNeverReturnsIsKilledAndHung) {
+    const ScriptedSimulator stuck([](std::int64_t n, const Scenario& s) {
+        if (n == 2 && s.name == "stuck")
+            for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));
+        return free_flight(n, s);
+    });
+    const std::vector<StressCase> cases{{"stuck", named("stuck"), false}, {"a", named("a"), false}};
+    StressRequest request;
+    request.simulators = {&stuck};
+    request.budget_seconds = 0.1;
+    const auto start = std::chrono::steady_clock::now();
+    const StressReport report = run_stress(cases, request);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
+    EXPECT_DOUBLE_EQ(stress_deadline_seconds(0.1), 1.15);
+    ASSERT_EQ(report.results.size(), 2u);
+    EXPECT_EQ(report.results[0].outcome, StressOutcome::hung);
+    EXPECT_NE(report.results[0].reason.find("over the limit of 1.15 s"), std::string::npos) << report.results[0].reason;
+    EXPECT_EQ(report.results[1].outcome, StressOutcome::pass);
+    EXPECT_NE(format_stress_matrix(report).find("HUNG"), std::string::npos);
+    EXPECT_NE(format_stress_failures(report).find("stuck / scripted: hung: no result after"), std::string::npos)
+        << format_stress_failures(report);
 }
 
 // --- the generated families ---

@@ -16,7 +16,10 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <chrono>
+#include <cstdlib>
 #include <string>
+#include <thread>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -243,6 +246,47 @@ TEST(SweepRows, FailedPairIsARowWithItsReason) {
     EXPECT_FALSE(r.rows[1].error);
     EXPECT_EQ(r.orders[0].points, 1);
     EXPECT_FALSE(r.orders[0].order);
+}
+
+// In a worker process: aborts on one step and never returns on another.
+class Doomed final : public Simulator {
+public:
+    explicit Doomed(const Simulator& inner) : inner_(inner) {}
+    std::string_view name() const override { return "doomed"; }
+    std::string_view description() const override { return "reference that aborts at dt = 0.015, hangs at 0.0075"; }
+    RunOutcome run(const Scenario& s, RunSink& sink) const override {
+        if (s.dt == 0.015) std::abort();
+        if (s.dt == 0.0075)
+            for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));
+        return inner_.run(s, sink);
+    }
+
+private:
+    const Simulator& inner_;
+};
+
+TEST(SweepRows, CrashedAndHungPairsCostTheirOwnRowsOnly) {
+    auto all = built_simulators();
+    const Doomed doomed(*find_simulator(all, "reference"));
+    const Scenario s = load_scenario(kScenarios + "/seed-2d.toml");
+    SweepRequest request;
+    request.simulators = {&doomed, find_simulator(all, "reference")};
+    request.dts = {0.03, 0.015, 0.0075};
+    request.repeat = 1;
+    request.jobs = 2;
+    request.budget_seconds = 0.5;
+    const SweepResult r = run_sweep(s, request);
+    ASSERT_EQ(r.rows.size(), 6u);
+    EXPECT_EQ(r.rows[0].status, RunStatus::ok);
+    EXPECT_EQ(r.rows[1].status, RunStatus::failed);
+    EXPECT_EQ(r.rows[1].reason.rfind("crashed: signal 6", 0), 0u) << r.rows[1].reason;
+    EXPECT_EQ(r.rows[2].status, RunStatus::failed);
+    EXPECT_EQ(r.rows[2].reason.rfind("hung: no result after", 0), 0u) << r.rows[2].reason;
+    EXPECT_EQ(r.rows[2].engine, "doomed");
+    EXPECT_EQ(r.rows[2].dt, 0.0075);
+    for (std::size_t i = 3; i < 6; ++i) EXPECT_EQ(r.rows[i].status, RunStatus::ok) << r.rows[i].reason;
+    // The doomed engine's good row is the reference's, bit for bit.
+    EXPECT_EQ(r.rows[0].error, r.rows[3].error);
 }
 
 fs::path fresh_dir(const std::string& name) {

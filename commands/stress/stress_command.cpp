@@ -36,7 +36,8 @@ struct StressOptions {
 
 // Exit status of stress (README): 0 every invariant held; 1 an invariant
 // broke, a finding about a simulator; 3 a simulator threw or gave up, so the
-// matrix has a hole (over 1: the run is incomplete); 2 bad input.
+// matrix has a hole (over 1: the run is incomplete), or one hung and was
+// killed; 2 bad input.
 int command_stress(const StressOptions& opt) {
     // A program silent for longer than a run's whole budget has hung: it is
     // killed then, not after the default ten minutes.
@@ -76,7 +77,7 @@ int command_stress(const StressOptions& opt) {
     request.jobs = opt.jobs;
     request.budget_seconds = opt.budget;
     request.on_progress = [](const StressResult& r, std::size_t done, std::size_t total) {
-        if (r.row == r.scenario || r.outcome == StressOutcome::crashed)
+        if (r.row == r.scenario || r.outcome == StressOutcome::crashed || r.outcome == StressOutcome::hung)
             fmt::print(stderr, "[{}/{}] {} {}: {}{}{}\n", done, total, r.scenario, r.simulator, to_string(r.outcome),
                        r.reason.empty() ? "" : ": ", r.reason);
     };
@@ -101,7 +102,7 @@ int command_stress(const StressOptions& opt) {
         return std::any_of(report.results.begin(), report.results.end(),
                            [&](const StressResult& r) { return r.outcome == o; });
     };
-    if (any(StressOutcome::crashed)) return kSimulatorFailed;
+    if (any(StressOutcome::crashed) || any(StressOutcome::hung)) return kSimulatorFailed;
     return any(StressOutcome::fail) ? kThresholdExceeded : kOk;
 }
 
@@ -113,13 +114,15 @@ Command add_stress_command(CLI::App& app) {
         "stress", "Run the stress suite (scenarios/stress/*.toml, wall starts, a Monte-Carlo set) on every selected "
                    "simulator and check its invariants");
     command->add_option("--engines", opt->engines, "Comma-separated simulators (default: every one built)");
-    command->add_option("--jobs", opt->jobs, "Runs at once (default: every core)")->check(CLI::Range(1, 4096));
+    command->add_option("--jobs", opt->jobs, "Runs at once, each in a worker process (default: every core)")->check(CLI::Range(1, 4096));
     command->add_option("--out", opt->out_dir, "Output folder for stress.json and stress.csv")
         ->capture_default_str();
     command->add_option("--only", opt->only,
                         "Only these rows (a scenario's name, monte-carlo, wall-starts) or generated scenarios")
         ->expected(1, -1);
-    command->add_option("--budget", opt->budget, "Wall-time budget of one run (s)")
+    command->add_option("--budget", opt->budget,
+                        "Wall-time budget of one run (s); a run without a result after 1.5 x budget + 1 s is killed "
+                        "and reported hung")
         ->capture_default_str()
         ->check(CLI::Range(0.001, 86400.0));
     command->add_option("--monte-carlo", opt->monte_carlo.count,

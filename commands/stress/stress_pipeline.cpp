@@ -4,12 +4,16 @@
 #include "platform/parallel_pairs.h"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <limits>
+#include <optional>
+#include <string>
 
 namespace bouncecheck {
 
@@ -212,6 +216,43 @@ StressResult run_stress_case(const StressCase& c, const Simulator& sim, double b
     return r;
 }
 
+namespace {
+
+// ------------------------------------------------ a result across the worker's channel (CBOR keeps every double's bits)
+
+using nlohmann::json;
+
+json opt(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
+std::optional<double> opt(const json& j) { return j.is_null() ? std::nullopt : std::optional<double>(j.get<double>()); }
+
+std::string encode(const StressResult& r) {
+    json checks = json::array();
+    for (const InvariantCheck& c : r.checks)
+        checks.push_back({static_cast<int>(c.invariant), c.checked, c.held, c.tolerance, c.worst, opt(c.first_t),
+                          c.first_value});
+    const json j{static_cast<int>(r.outcome), r.reason, checks, r.steps, r.run_seconds, r.ccd, r.substeps};
+    const std::vector<std::uint8_t> bytes = json::to_cbor(j);
+    return {bytes.begin(), bytes.end()};
+}
+
+// Fills in what the worker computed; row, scenario and simulator are the parent's.
+void decode(const std::string& bytes, StressResult& r) {
+    const json j = json::from_cbor(bytes);
+    r.outcome = static_cast<StressOutcome>(j[0].get<int>());
+    r.reason = j[1].get<std::string>();
+    for (const json& c : j[2])
+        r.checks.push_back(InvariantCheck{static_cast<Invariant>(c[0].get<int>()), c[1].get<bool>(), c[2].get<bool>(),
+                                          c[3].get<double>(), c[4].get<double>(), opt(c[5]), c[6].get<double>()});
+    r.steps = j[3].get<std::int64_t>();
+    r.run_seconds = j[4].get<double>();
+    r.ccd = j[5].get<std::string>();
+    r.substeps = j[6].get<std::string>();
+}
+
+}  // namespace
+
+double stress_deadline_seconds(double budget_seconds) { return 1.5 * budget_seconds + 1; }
+
 StressReport run_stress(const std::vector<StressCase>& cases, const StressRequest& request) {
     const auto wall_start = std::chrono::steady_clock::now();
     StressReport report;
@@ -225,13 +266,28 @@ StressReport run_stress(const std::vector<StressCase>& cases, const StressReques
 
     PairSchedule schedule;
     schedule.jobs = request.jobs;
-    schedule.serial = [&](std::size_t e) { return request.simulators[e]->serial_reason().has_value(); };
+    schedule.deadline_seconds = stress_deadline_seconds(request.budget_seconds);
     schedule.cost = [&](std::size_t c) { return cases[c].scenario.duration / cases[c].scenario.dt; };
     schedule.run = [&](std::size_t e, std::size_t c) {
-        report.results[c * n_sim + e] = run_stress_case(cases[c], *request.simulators[e], request.budget_seconds);
+        return encode(run_stress_case(cases[c], *request.simulators[e], request.budget_seconds));
     };
-    schedule.finished = [&](std::size_t e, std::size_t c, std::size_t done) {
-        if (request.on_progress) request.on_progress(report.results[c * n_sim + e], done, total);
+    schedule.finished = [&](std::size_t e, std::size_t c, const PairOutcome& o, std::size_t done) {
+        StressResult& r = report.results[c * n_sim + e];
+        r.row = cases[c].row;
+        r.scenario = cases[c].scenario.name;
+        r.simulator = std::string(request.simulators[e]->name());
+        if (o.kind == PairOutcome::Kind::ok) {
+            try {
+                decode(o.payload, r);
+            } catch (const std::exception& error) {
+                r.outcome = StressOutcome::crashed;
+                r.reason = fmt::format("its worker process sent an unreadable result: {}", error.what());
+            }
+        } else {
+            r.outcome = o.kind == PairOutcome::Kind::hung ? StressOutcome::hung : StressOutcome::crashed;
+            r.reason = o.failure;
+        }
+        if (request.on_progress) request.on_progress(r, done, total);
     };
     run_pairs_in_parallel(request.simulators.size(), cases.size(), schedule);
     report.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();

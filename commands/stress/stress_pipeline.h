@@ -33,19 +33,26 @@ StressLimits stress_limits(const Scenario& s, double budget_seconds);
 
 inline constexpr double kDefaultBudgetSeconds = 30;
 
+// The watchdog's limit for one run: past it, the run's worker process is
+// killed and the run is hung. Later than the budget, which a run that still
+// hands states over ends itself (the time_budget invariant): the watchdog is
+// for a run stuck inside one step, or an engine that never returns.
+double stress_deadline_seconds(double budget_seconds);
+
 struct StressRequest {
     std::vector<const Simulator*> simulators;
-    int jobs = 0;  // worker threads; 0: every core
+    int jobs = 0;  // worker processes; 0: every core
     double budget_seconds = kDefaultBudgetSeconds;
-    // Called (under a lock, from a worker thread) as each run finishes.
+    // Called in this process as each run ends, in the order they end.
     std::function<void(const StressResult&, std::size_t done, std::size_t total)> on_progress;
 };
 
 // Runs `s` on `sim` and judges every invariant.
 StressResult run_stress_case(const StressCase& c, const Simulator& sim, double budget_seconds);
 
-// Every (case, simulator) pair, in parallel over pairs (oneTBB), the engines
-// with shared library state one run at a time (Simulator::serial_reason).
+// Every (case, simulator) pair, in parallel in worker processes
+// (run_pairs_in_parallel): a run that crashes or hangs its process is that
+// run's result only.
 StressReport run_stress(const std::vector<StressCase>& cases, const StressRequest& request);
 
 }  // namespace bouncecheck

@@ -27,12 +27,16 @@ struct SweepOptions {
     std::string dt;
     int repeat = 3;
     int jobs = 0;  // 0: every core
+    double budget = 0;  // s per pair; 0: no limit
     std::string out_dir = "bouncecheck-out";
     ExternalOptions external;
 };
 
 int command_sweep(const SweepOptions& opt) {
-    auto extra = ExtraSimulators::from_options(opt.external);
+    // A program silent for longer than its pair's whole budget has hung.
+    ExternalOptions external = opt.external;
+    if (opt.budget > 0) external.timeout_seconds = std::min(external.timeout_seconds, opt.budget);
+    auto extra = ExtraSimulators::from_options(external);
     if (!extra) return kBadInput;
     auto scenarios = load_all({opt.file}, extra->command_line_names());
     if (!scenarios) return kBadInput;
@@ -77,6 +81,7 @@ int command_sweep(const SweepOptions& opt) {
     request.dts = dts;
     request.repeat = opt.repeat;
     request.jobs = opt.jobs;
+    request.budget_seconds = opt.budget;
     request.on_progress = [](const SweepRow& row, std::size_t done, std::size_t total) {
         if (row.status == RunStatus::ok)
             fmt::print(stderr, "[{}/{}] {} dt={:.6g}: error {:.4e} m, {:.1f} ns/step\n", done, total, row.engine, row.dt,
@@ -103,6 +108,7 @@ int command_sweep(const SweepOptions& opt) {
                                     {"dt_argument", opt.dt},
                                     {"repeat", opt.repeat},
                                     {"jobs", opt.jobs > 0 ? opt.jobs : 0},
+                                    {"budget_seconds", opt.budget},
                                     {"out", out_dir.string()}};
     fmt::print("{}", format_sweep(s, result));
     write_sweep(s, result, parameters, out_dir, to_json(this_provenance(/*with_machine=*/true)));
@@ -127,8 +133,13 @@ Command add_sweep_command(CLI::App& app) {
     command->add_option("--repeat", opt->repeat, "Timed runs per (simulator, dt); the fastest is kept")
         ->capture_default_str()
         ->check(CLI::Range(1, 1000));
-    command->add_option("--jobs", opt->jobs, "(simulator, dt) pairs run at once (default: every core)")
+    command->add_option("--jobs", opt->jobs,
+                        "(simulator, dt) pairs run at once, each in a worker process (default: every core)")
         ->check(CLI::Range(1, 4096));
+    command->add_option("--budget", opt->budget,
+                        "Wall-time limit of one (simulator, dt) pair, its timed runs included (s): past it the pair "
+                        "is killed and fails as hung (default: no limit)")
+        ->check(CLI::Range(0.001, 1e7));
     command->add_option("--out", opt->out_dir, "Output folder for sweep.csv, sweep.json and sweep.html")->capture_default_str();
     add_external_options(*command, opt->external);
     return {command, [opt] { return command_sweep(*opt); }};

@@ -4,6 +4,7 @@
 #include "platform/parallel_pairs.h"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -13,6 +14,7 @@
 #include <exception>
 #include <limits>
 #include <string>
+#include <vector>
 #include <utility>
 
 namespace bouncecheck {
@@ -166,6 +168,43 @@ SweepOrder fit_order(const std::vector<SweepRow>& rows, const std::string& engin
     return o;
 }
 
+namespace {
+
+// ------------------------------------------------ a row across the worker's channel (CBOR keeps every double's bits)
+
+using nlohmann::json;
+
+template <typename T>
+json opt(const std::optional<T>& v) {
+    return v ? json(*v) : json(nullptr);
+}
+template <typename T>
+std::optional<T> opt(const json& j) {
+    return j.is_null() ? std::nullopt : std::optional<T>(j.get<T>());
+}
+
+std::string encode(const SweepRow& r) {
+    const json j{static_cast<int>(r.status), r.reason,          opt(r.error),          opt(r.bounce_error),
+                 opt(r.ns_per_step),        opt(r.sec_per_sim_sec), opt(r.steps), opt(r.min_seconds)};
+    const std::vector<std::uint8_t> bytes = json::to_cbor(j);
+    return {bytes.begin(), bytes.end()};
+}
+
+// Fills in what the worker computed; engine and dt are the parent's.
+void decode(const std::string& bytes, SweepRow& r) {
+    const json j = json::from_cbor(bytes);
+    r.status = static_cast<RunStatus>(j[0].get<int>());
+    r.reason = j[1].get<std::string>();
+    r.error = opt<double>(j[2]);
+    r.bounce_error = opt<double>(j[3]);
+    r.ns_per_step = opt<double>(j[4]);
+    r.sec_per_sim_sec = opt<double>(j[5]);
+    r.steps = opt<std::int64_t>(j[6]);
+    r.min_seconds = opt<double>(j[7]);
+}
+
+}  // namespace
+
 SweepResult run_sweep(const Scenario& s, const SweepRequest& request) {
     const std::size_t n_dt = request.dts.size();
     const std::size_t total = request.simulators.size() * n_dt;
@@ -175,13 +214,27 @@ SweepResult run_sweep(const Scenario& s, const SweepRequest& request) {
     const int repeat = std::max(1, request.repeat);
     PairSchedule schedule;
     schedule.jobs = request.jobs;
-    schedule.serial = [&](std::size_t e) { return request.simulators[e]->serial_reason().has_value(); };
+    schedule.deadline_seconds = request.budget_seconds;
     schedule.cost = [&](std::size_t d) { return 1.0 / request.dts[d]; };  // steps: the smallest dt costs most
     schedule.run = [&](std::size_t e, std::size_t d) {
-        result.rows[e * n_dt + d] = run_pair(s, *request.simulators[e], request.dts[d], repeat);
+        return encode(run_pair(s, *request.simulators[e], request.dts[d], repeat));
     };
-    schedule.finished = [&](std::size_t e, std::size_t d, std::size_t done) {
-        if (request.on_progress) request.on_progress(result.rows[e * n_dt + d], done, total);
+    schedule.finished = [&](std::size_t e, std::size_t d, const PairOutcome& o, std::size_t done) {
+        SweepRow& row = result.rows[e * n_dt + d];
+        row.engine = std::string(request.simulators[e]->name());
+        row.dt = request.dts[d];
+        if (o.kind != PairOutcome::Kind::ok) {
+            row = failed_row(row.engine, row.dt,
+                             fmt::format("{}: {}", o.kind == PairOutcome::Kind::hung ? "hung" : "crashed", o.failure));
+        } else {
+            try {
+                decode(o.payload, row);
+            } catch (const std::exception& error) {
+                row = failed_row(row.engine, row.dt,
+                                 fmt::format("its worker process sent an unreadable result: {}", error.what()));
+            }
+        }
+        if (request.on_progress) request.on_progress(row, done, total);
     };
     run_pairs_in_parallel(request.simulators.size(), n_dt, schedule);
 

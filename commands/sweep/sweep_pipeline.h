@@ -38,12 +38,16 @@ struct SweepRequest {
     std::vector<const Simulator*> simulators;
     std::vector<double> dts;
     int repeat = 3;  // timed runs per pair (the minimum is kept)
-    int jobs = 0;    // worker threads; 0: every core
-    // Called (under a lock, from a worker thread) as each pair finishes.
+    int jobs = 0;    // worker processes; 0: every core
+    // Wall-time limit of one pair, its timed repeats included (s): past it the
+    // pair's worker process is killed and the row fails as hung. 0: no limit.
+    double budget_seconds = 0;
+    // Called in this process as each pair ends, in the order they end.
     std::function<void(const SweepRow& row, std::size_t done, std::size_t total)> on_progress;
 };
 
-// Runs every (simulator, dt) pair, in parallel over pairs (oneTBB). Every
+// Runs every (simulator, dt) pair, in parallel in worker processes
+// (run_pairs_in_parallel), a crash or a hang costing its own row only. Every
 // pair's result has its own slot, so the rows do not depend on `jobs` (only
 // the timings do). A simulator that cannot run the scenario, or fails, is a
 // row with its status and reason.
