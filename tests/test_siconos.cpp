@@ -13,6 +13,8 @@
 #include "tests/support/engine_tests.h"
 
 #include <gtest/gtest.h>
+
+#include <dlfcn.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -122,14 +124,28 @@ TEST(SiconosCapabilities, TwoSimulatorsBothDimensionsSerial) {
         EXPECT_FALSE(caps.planar_2d_in_3d);  // 2D has two translational DOFs of its own
         EXPECT_TRUE(caps.per_contact_hook);
         EXPECT_EQ(caps.precision, "double");
-        // Global state in Siconos (see the adapter): one world at a time.
-        ASSERT_TRUE(sim->serial_reason().has_value()) << name;
-        EXPECT_NE(sim->serial_reason()->find("static"), std::string::npos) << name;
         EXPECT_FALSE(sim->cannot_run(seed("seed-3d.toml")).has_value());
         EXPECT_FALSE(sim->cannot_run(per_contact(seed("seed-2d.toml"))).has_value());
     }
-    EXPECT_NE(test::find_simulator("siconos")->serial_reason()->find("__count"), std::string::npos);
-    EXPECT_NE(test::find_simulator("siconos-ed")->serial_reason()->find("global_object"), std::string::npos);
+}
+
+// The library state that keeps a process to one world at a time, and the one
+// BLAS thread per process (OpenBLAS's default spins a thread per core).
+TEST(SiconosSettings, ThreadsAndBlasThreadsAreReported) {
+    Scenario s = seed("seed-3d.toml");
+    s.duration = 1.0;
+    const auto ts = run_ts(s), ed = run_ed(s);
+    EXPECT_NE(setting(ts.summary, "threads").find("__count"), std::string::npos);
+    EXPECT_NE(setting(ed.summary, "threads").find("global_object"), std::string::npos);
+    using Get = int (*)();
+    const auto get = reinterpret_cast<Get>(::dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+    if (!get) {
+        EXPECT_EQ(setting(ts.summary, "blas_threads"), "not OpenBLAS: its own");
+        return;
+    }
+    EXPECT_EQ(get(), 1);
+    EXPECT_EQ(setting(ts.summary, "blas_threads"), "1");
+    EXPECT_EQ(setting(ed.summary, "blas_threads"), "1");
 }
 
 // LsodarOSI throws for a NewtonImpactFrictionNSL ("not yet implemented",

@@ -34,6 +34,8 @@
 #include <utility>
 #include <vector>
 
+#include <dlfcn.h>
+
 namespace bouncecheck {
 namespace siconos {
 namespace {
@@ -42,6 +44,27 @@ using siconos_model::Model;
 using siconos_model::ModelSpec;
 using siconos_model::Scheme;
 using WallStatuses = siconos_model::Model::WallStatuses;
+
+// Siconos's numerics call BLAS, and Debian's libblas.so.3 is OpenBLAS, which
+// starts a thread per core and keeps it spinning (sched_yield) after each
+// call. Measured on seed-2d (sweep, siconos alone, one job): 15-17 s of wall
+// time but 33 s of CPU, half of it in the kernel; with one thread 19.4 s and
+// 19.4 s, every result bit for bit the same. In a pool of worker processes
+// that spinning thread takes the other workers' cores, so each process gets
+// one BLAS thread. Returns the number OpenBLAS now uses; 0 when the BLAS is
+// not OpenBLAS (nothing to set).
+int limit_blas_threads() {
+    static const int threads = [] {
+        using Set = void (*)(int);
+        using Get = int (*)();
+        const auto set = reinterpret_cast<Set>(::dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+        const auto get = reinterpret_cast<Get>(::dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+        if (!set || !get) return 0;
+        set(1);
+        return get();
+    }();
+    return threads;
+}
 
 constexpr const char* kTimeSteppingName = "siconos";
 constexpr const char* kEventDrivenName = "siconos-ed";
@@ -385,7 +408,12 @@ void SiconosWorld::report(const Scenario& s, const EngineOptions& options, std::
     }
     set("rotation", e.dofs > s.dim ? "free" : (options.free_rotation ? "not modelled (no friction)" : "locked"),
         "scenario [engines.<name>] rotation");
-    set("threads", event_driven_ ? kEventDrivenSerial : kTimeSteppingSerial, "serial_reason: one world at a time");
+    set("threads", event_driven_ ? kEventDrivenSerial : kTimeSteppingSerial,
+        "one world at a time per process: sweep and stress run each pair in a worker process of its own");
+    const int blas = limit_blas_threads();
+    set("blas_threads", blas > 0 ? std::to_string(blas) : "not OpenBLAS: its own",
+        "OpenBLAS's default is one thread per core, spinning between calls: it took a second core per process "
+        "and gave the same results");
 }
 
 // cannot_run() also refuses Coulomb friction for siconos-ed: LsodarOSI throws
@@ -393,7 +421,9 @@ void SiconosWorld::report(const Scenario& s, const EngineOptions& options, std::
 // 4.4.0: "not yet implemented").
 class SiconosSimulator final : public EngineSimulator {
 public:
-    SiconosSimulator(const Tuning& t, bool event_driven) : tuning_(t), event_driven_(event_driven) {}
+    SiconosSimulator(const Tuning& t, bool event_driven) : tuning_(t), event_driven_(event_driven) {
+        limit_blas_threads();  // here, in the process that forks the workers: they inherit it
+    }
     std::string_view name() const override { return event_driven_ ? kEventDrivenName : kTimeSteppingName; }
     std::string_view description() const override {
         return event_driven_ ? "Siconos 4.4 event-driven (EventDriven + LsodarOSI): impacts at their exact instants, "
@@ -404,7 +434,6 @@ public:
     EngineCapabilities capabilities() const override {
         EngineCapabilities caps;
         caps.precision = "double";
-        caps.serial_reason = event_driven_ ? kEventDrivenSerial : kTimeSteppingSerial;
         return caps;
     }
     std::optional<std::string> cannot_run(const Scenario& s) const override {
