@@ -71,12 +71,6 @@ EngineSimulator::SteppedWorld EngineSimulator::build_stepped_world(
     return out;
 }
 
-// A copy: capabilities() returns a temporary, so a view of its string would dangle.
-std::optional<std::string> EngineSimulator::serial_reason() const {
-    std::string why = capabilities().serial_reason;
-    if (why.empty()) return std::nullopt;
-    return why;
-}
 
 RunOutcome EngineSimulator::run(const Scenario& s, RunSink& sink) const {
     RunOutcome out;

@@ -23,9 +23,6 @@ struct EngineCapabilities {
     bool planar_2d_in_3d = false;  // 2D runs as a 3D body locked to the x-z plane
     bool per_contact_hook = true;  // supports TangentialModel::per_contact
     std::string precision;         // "double", "float"
-    // Why two worlds of this engine must not step at the same time (global
-    // state the library does not synchronise); empty if they may.
-    std::string serial_reason;
 };
 
 // Lengths and times in the engine's world: x_engine = x * length, t_engine = t * time.
@@ -85,7 +82,6 @@ public:
     std::optional<std::string> cannot_run(const Scenario& s) const override;
     RunOutcome run(const Scenario& s, RunSink& sink) const final;
     bool third_party() const final { return true; }
-    std::optional<std::string> serial_reason() const final;
 
     virtual EngineCapabilities capabilities() const = 0;
 

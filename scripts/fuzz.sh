@@ -20,7 +20,7 @@ SECONDS_TO_RUN="${1:-300}"
 # The top-level CMake project finds every library before it knows it only
 # builds the fuzz target, so those are needed too (the engines are not).
 "$ROOT/scripts/packages.sh" build-essential cmake pkg-config clang-14 libclang-rt-14-dev \
-  libeigen3-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libfmt-dev libtbb-dev
+  libeigen3-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libfmt-dev
 
 mkdir -p "$BUILD_DIR"
 cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \

@@ -16,7 +16,7 @@ BUILD_DIR="${BUILD_DIR:-$ROOT/build}"
 # Everything the build needs, from Debian 12's own packages.
 PACKAGES=(
   build-essential cmake pkg-config
-  libeigen3-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libfmt-dev libtbb-dev
+  libeigen3-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libfmt-dev
   libgtest-dev libbenchmark-dev
 )
 # Each engine's packages, left out when its CMake option is off: given here

@@ -93,9 +93,6 @@ public:
     // Runs a library this project does not own (an engine): `run` isolates it
     // in a child process, where an abort costs only its own result.
     virtual bool third_party() const { return false; }
-    // Why two runs of this simulator must not step at the same time (a
-    // library with unsynchronised global state), or nothing if they may.
-    virtual std::optional<std::string> serial_reason() const { return std::nullopt; }
 };
 
 // Keeps every state in memory.

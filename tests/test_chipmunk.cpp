@@ -104,7 +104,6 @@ TEST(ChipmunkCapabilities, TwoDimensionalDoubleEngine) {
     EXPECT_TRUE(caps.runs_2d);
     EXPECT_TRUE(caps.per_contact_hook);
     EXPECT_EQ(caps.precision, "double");
-    EXPECT_FALSE(sim->serial_reason().has_value());
 
     Scenario s = seed("seed-2d.toml");
     s.duration = 0.3;

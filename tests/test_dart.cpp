@@ -103,9 +103,6 @@ TEST(DartCapabilities, DoubleThreeAndTwoDimensionsSerial) {
     EXPECT_TRUE(caps.runs_2d);
     EXPECT_TRUE(caps.per_contact_hook);
     EXPECT_EQ(caps.precision, "double");
-    // ContactConstraint's ERP & co. are static members: two threads must not step worlds at once.
-    ASSERT_TRUE(sim->serial_reason().has_value());
-    EXPECT_NE(sim->serial_reason()->find("static"), std::string::npos);
     EXPECT_NO_THROW(test::find_simulator("dart"));
 }
 
@@ -376,7 +373,7 @@ TEST(DartSettings, ErrorReductionLiftsASunkenBall) {
 // ContactConstraint's ERP & co. are process-wide statics: each world sets
 // its own before every step, so two worlds of different tunings stepped in
 // turn on one thread give their serial runs bit for bit (and two threads
-// would not: hence serial_reason).
+// would not: hence one world at a time per worker process).
 TEST(DartThreads, InterleavedWorldsKeepTheirOwnErrorReduction) {
     Scenario s = seed("seed-3d.toml");
     s.position = {0.5, 0.5, s.radius - 1e-3};

@@ -142,7 +142,6 @@ TEST(MujocoCapabilities, DoublePrecisionThreeAndTwoDimensionsParallel) {
     EXPECT_TRUE(caps.planar_2d_in_3d);
     EXPECT_TRUE(caps.per_contact_hook);
     EXPECT_EQ(caps.precision, "double");
-    EXPECT_FALSE(sim->serial_reason().has_value());  // see MujocoThreads
     const auto registered = test::find_simulator("mujoco");
     EXPECT_FALSE(registered->cannot_run(seed("seed-3d.toml")).has_value());
     EXPECT_FALSE(registered->cannot_run(variant(seed("seed-2d.toml"), 0.03, 1, true)).has_value());

@@ -269,6 +269,28 @@ TEST(StressWorkers, AStepThatNeverReturnsIsKilledAndHung) {
         << format_stress_failures(report);
 }
 
+TEST(StressWorkers, AHungGeneratedScenarioIsWrittenForRun) {
+    const StressCase generated{kMonteCarloRow, named("monte-carlo-0007"), true};
+    StressReport report;
+    report.rows = {kMonteCarloRow};
+    report.simulators = {"scripted"};
+    StressResult hung;
+    hung.row = kMonteCarloRow;
+    hung.scenario = "monte-carlo-0007";
+    hung.simulator = "scripted";
+    hung.outcome = StressOutcome::hung;
+    hung.reason = "no result after 2 s, over the limit of 1.15 s";
+    report.results = {hung};
+    const fs::path dir = fs::temp_directory_path() / ("bouncecheck-stress-hung-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    write_stress(report, {generated}, nlohmann::json::object(), dir);
+    EXPECT_TRUE(fs::exists(dir / kStressScenarioDir / "monte-carlo-0007.toml"));
+    EXPECT_NE(test::slurp(dir / "stress.csv").find(",monte-carlo-0007,scripted,hung,"), std::string::npos);
+    EXPECT_NE(format_stress_matrix(report).find("0/1 1H"), std::string::npos) << format_stress_matrix(report);
+    fs::remove_all(dir);
+}
+
 // --- the generated families ---
 
 TEST(StressMonteCarlo, EngineIsTheStandardsMt19937_64) {

@@ -293,8 +293,9 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
     EngineCapabilities caps;
     caps.runs_3d = false;
     caps.precision = "float";
-    // Box2D 2.4 counts GJK and TOI calls in unsynchronised globals.
-    caps.serial_reason = "Box2D 2.4 updates global statistics counters (b2_gjkCalls, b2_toiCalls)";
+    // Box2D 2.4 counts GJK and TOI calls in unsynchronised globals
+    // (b2_gjkCalls, b2_toiCalls): one world at a time per process, as every
+    // pair runs in a worker process of its own (platform/parallel_pairs.h).
     return make_engine_simulator(
         {"box2d", "Box2D 2.4.1 (2D, float): dynamic circle in four static boxes, scaled so the ball is 1 m", caps,
          [tuning](const Scenario& s, const EngineOptions& options, std::vector<Setting>& settings)

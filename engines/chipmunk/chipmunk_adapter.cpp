@@ -326,10 +326,9 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
     EngineCapabilities caps;
     caps.runs_3d = false;
     caps.precision = "double";
-    // Empty: after library_check() no global state of Chipmunk 7.0.3 is written
-    // by creating or stepping a space (cpSpaceInit's banner flag is the only
+    // After library_check() no global state of Chipmunk 7.0.3 is written by
+    // creating or stepping a space (cpSpaceInit's banner flag is the only
     // writable static in the library; shape ids and every buffer are per space).
-    caps.serial_reason = "";
     return make_engine_simulator(
         {"chipmunk", "Chipmunk2D 7.0.3 (2D, double): dynamic circle in four static thick segments", caps,
          [tuning](const Scenario& s, const EngineOptions& options, std::vector<Setting>& settings)

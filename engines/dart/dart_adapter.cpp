@@ -420,8 +420,10 @@ void DartWorld::report(const Scenario& s, const EngineOptions& options, double m
     set("ccd", "none",
         "DART has no continuous collision detection; contacts are found at the step's starting positions: "
         "substeps shorten the travel");
-    set("threads", "serial (ContactConstraint's ERP, max velocity, allowance and CFM are static members)",
-        "every world writes them before its step; two threads stepping worlds would race on them");
+    set("threads", "one world at a time per process (ContactConstraint's ERP, max velocity, allowance and CFM are "
+                   "static members)",
+        "every world writes them before its step; two threads stepping worlds would race on them, so sweep and "
+        "stress run each pair in a worker process of its own");
     set("tangential_model",
         per_contact_ ? fmt::format("per-contact: beta = {} on the ball's velocity along the wall, {}", num(beta_),
                                    t.beta_before_step
@@ -447,9 +449,10 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
     EngineCapabilities caps;
     caps.planar_2d_in_3d = true;
     caps.precision = "double";
-    caps.serial_reason =
-        "DART 6.12 keeps ContactConstraint's error reduction parameter, max error reduction velocity, error "
-        "allowance and constraint force mixing in static members, written by every world before its step";
+    // DART 6.12 keeps ContactConstraint's error reduction parameter, max
+    // error reduction velocity, error allowance and constraint force mixing in
+    // static members, written by every world before its step: one world steps
+    // at a time per process (each pair runs in a worker process of its own).
     return make_engine_simulator(
         {"dart", "DART 6.12 (double): sphere in six fixed boxes, DARTCollisionDetector, Dantzig LCP, length scale "
                  "from dt and g",

@@ -48,7 +48,7 @@ struct Tuning {
     double wall_restitution = 1.0;
 
     // ContactConstraint's penetration correction (process-wide statics: see
-    // make_simulator's serial_reason), model units. The defaults of DART
+    // the "threads" setting), model units. The defaults of DART
     // 6.12 (#define DART_ERP 0.01, DART_MAX_ERV 1e-3, DART_ERROR_ALLOWANCE 0,
     // DART_CFM 1e-5), set explicitly at every step.
     double error_reduction = 0.01;

@@ -356,8 +356,9 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
     caps.precision = "double";
     // Debian's libode 0.16 is built without ODE_EXT_ou (no thread-local
     // collision data): dAllocateODEDataForThread does not make its global
-    // state per thread, so two ODE worlds must not step at the same time.
-    caps.serial_reason = "libode is built without ODE_EXT_ou: its global state is shared between threads";
+    // state per thread, so two ODE worlds must not step at the same time in
+    // one process. None do: sweep and stress run each pair in a worker
+    // process of its own (platform/parallel_pairs.h).
     return make_engine_simulator(
         {"ode", "Open Dynamics Engine 0.16 (double): sphere vs static planes, contact joints with bounce, dWorldStep",
          caps, [tuning](const Scenario& s, const EngineOptions& options, std::vector<Setting>& settings)

@@ -92,7 +92,7 @@ struct Effective {
 };
 
 // One Siconos simulation of the ball. Not thread-safe (see the adapter's
-// serial_reason); build and step on one thread at a time.
+// "threads" setting); build and step on one thread at a time.
 class Model {
 public:
     explicit Model(const ModelSpec& spec);
