@@ -98,8 +98,12 @@ void AtomicFile::commit() {
 }
 
 void write_file_atomically(const std::filesystem::path& target, std::string_view contents) {
+    write_file_atomically(target, {contents});
+}
+
+void write_file_atomically(const std::filesystem::path& target, std::initializer_list<std::string_view> pieces) {
     AtomicFile file(target);
-    file.write(contents);
+    for (std::string_view piece : pieces) file.write(piece);
     file.commit();
 }
 

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <initializer_list>
 #include <string_view>
 
 namespace bouncecheck {
@@ -29,6 +30,9 @@ private:
 
 // Writes `contents` to `target` atomically.
 void write_file_atomically(const std::filesystem::path& target, std::string_view contents);
+// The same for contents in pieces, written one after another: a large piece
+// (a page's inlined library) is written from where it is, never joined.
+void write_file_atomically(const std::filesystem::path& target, std::initializer_list<std::string_view> pieces);
 
 // On SIGINT, SIGTERM or SIGHUP: removes every temporary file still open and
 // kills every external program still running (program.h), then dies of the

@@ -107,14 +107,14 @@ nlohmann::json scenario_plots_json(const ScenarioRun& run) {
 
 }  // namespace
 
-std::string to_html(const RunReport& report) {
+Page to_html(const RunReport& report) {
     nlohmann::json plots = nlohmann::json::array();
     for (const ScenarioRun& run : report.scenarios) plots.push_back(scenario_plots_json(run));
     const nlohmann::json data = {{"kind", "run"}, {"report", to_json(report)}, {"plots", plots}};
     return self_contained_page("bouncecheck report", data.dump());
 }
 
-std::string sweep_html(const nlohmann::json& sweep) {
+Page sweep_html(const nlohmann::json& sweep) {
     const nlohmann::json data = {{"kind", "sweep"}, {"sweep", sweep}};
     return self_contained_page("bouncecheck sweep: " + sweep.value("scenario", std::string()), data.dump());
 }

@@ -669,7 +669,7 @@ void write_reports(const RunReport& report, const std::filesystem::path& out_dir
     write_file_atomically(out_dir / "bounces.csv", bounces_csv(report));
     const bool plotted = std::any_of(report.scenarios.begin(), report.scenarios.end(),
                                      [](const ScenarioRun& run) { return !run.plots.empty(); });
-    if (plotted) write_file_atomically(out_dir / "report.html", to_html(report));
+    if (plotted) write_page(out_dir / "report.html", to_html(report));
 }
 
 }  // namespace bouncecheck

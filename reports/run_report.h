@@ -6,6 +6,7 @@
 #include "metrics/summary.h"
 #include "reports/plot_data.h"
 #include "reports/provenance.h"
+#include "reports/web_assets.h"
 #include "scenarios/scenario.h"
 #include "verdicts/verdicts.h"
 
@@ -56,7 +57,7 @@ std::string to_junit(const RunReport& report);      // junit.xml: a test case pe
 std::string bounces_csv(const RunReport& report);   // bounces.csv: scenario,simulator,bounce,t,apex,measured_alpha,measured_beta
 // report.html: one self-contained page (the charting library inlined) with
 // the plots of every scenario that recorded them; see reports/html_report.cpp.
-std::string to_html(const RunReport& report);
+Page to_html(const RunReport& report);
 // Writes report.json, report.md, junit.xml, bounces.csv and, when the run
 // recorded plots, report.html into out_dir, each atomically.
 void write_reports(const RunReport& report, const std::filesystem::path& out_dir);

@@ -118,7 +118,7 @@ void write_sweep(const Scenario& s, const SweepResult& r, const nlohmann::json& 
     write_file_atomically(out_dir / "sweep.csv", sweep_csv(r));
     const nlohmann::json json = sweep_json(s, r, parameters, provenance);
     write_file_atomically(out_dir / "sweep.json", json.dump(2) + "\n");
-    write_file_atomically(out_dir / "sweep.html", sweep_html(json));
+    write_page(out_dir / "sweep.html", sweep_html(json));
 }
 
 }  // namespace bouncecheck

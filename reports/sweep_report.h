@@ -3,6 +3,7 @@
 // and the terminal table.
 #pragma once
 
+#include "reports/web_assets.h"
 #include "scenarios/scenario.h"
 #include "simulators/simulator.h"
 
@@ -57,7 +58,7 @@ std::string format_sweep(const Scenario& s, const SweepResult& r);
 // sweep.html: the work-precision plot (log-log error against cost, one line
 // per engine, the Pareto front marked) and the orders, self-contained like
 // report.html (reports/html_report.cpp).
-std::string sweep_html(const nlohmann::json& sweep);
+Page sweep_html(const nlohmann::json& sweep);
 // Writes DIR/sweep.csv, DIR/sweep.json and DIR/sweep.html, each atomically.
 void write_sweep(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters,
                  const std::filesystem::path& out_dir, const nlohmann::json& provenance = nullptr);

@@ -1,5 +1,6 @@
 #include "reports/web_assets.h"
 
+#include "platform/atomic_file.h"
 #include "reports/run_report.h"
 
 #include <fmt/format.h>
@@ -39,8 +40,9 @@ std::string_view plotly_js() { return span(bouncecheck_asset_plotly_js, bouncech
 std::string_view page_js() { return span(bouncecheck_asset_page_js, bouncecheck_asset_page_js_end); }
 std::string_view page_css() { return span(bouncecheck_asset_page_css, bouncecheck_asset_page_css_end); }
 
-std::string self_contained_page(std::string_view title, std::string_view data_json) {
-    return fmt::format(
+Page self_contained_page(std::string_view title, std::string_view data_json) {
+    Page page;
+    page.head = fmt::format(
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
         "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
         // Nothing may leave the page: no server is asked for anything.
@@ -48,10 +50,25 @@ std::string self_contained_page(std::string_view title, std::string_view data_js
         "script-src 'unsafe-inline' 'unsafe-eval'; style-src 'unsafe-inline'; img-src data: blob:; "
         "worker-src blob:\">\n"
         "<title>{}</title>\n<style>\n{}</style>\n"
-        "<script>\n{}\n</script>\n"
+        "<script>\n",
+        xml_escape(title), page_css());
+    page.library = plotly_js();
+    page.tail = fmt::format(
+        "\n</script>\n"
         "<script id=\"bouncecheck-data\" type=\"application/json\">{}</script>\n"
         "</head>\n<body>\n<main id=\"page\"></main>\n<script>\n{}\n</script>\n</body>\n</html>\n",
-        xml_escape(title), page_css(), plotly_js(), script_safe_json(data_json), page_js());
+        script_safe_json(data_json), page_js());
+    return page;
+}
+
+std::string Page::text() const {
+    std::string out;
+    out.reserve(head.size() + library.size() + tail.size());
+    return out.append(head).append(library).append(tail);
+}
+
+void write_page(const std::filesystem::path& target, const Page& page) {
+    write_file_atomically(target, {page.head, page.library, page.tail});
 }
 
 }  // namespace bouncecheck

@@ -3,6 +3,7 @@
 // web/package.json's lock file, and the pages' own script and style.
 #pragma once
 
+#include <filesystem>
 #include <string>
 #include <string_view>
 
@@ -14,7 +15,18 @@ std::string_view page_css();    // reports/html/page.css
 
 // The page: title, style, the library, the data (JSON) and the page script,
 // each inlined, so that it opens from disk with no request to any server.
+// In three pieces that, written one after another, make the page: the
+// library between them is a view of the binary's own copy, so the page is
+// written without copying it (write_page).
+struct Page {
+    std::string head;          // up to the library
+    std::string_view library;  // plotly_js()
+    std::string tail;          // the data and the page script
+    std::string text() const;  // the whole page, joined (for reading it back)
+};
 // `data_json` must be JSON text; it is escaped for a <script> element here.
-std::string self_contained_page(std::string_view title, std::string_view data_json);
+Page self_contained_page(std::string_view title, std::string_view data_json);
+// Writes the page to `target` atomically.
+void write_page(const std::filesystem::path& target, const Page& page);
 
 }  // namespace bouncecheck

@@ -101,7 +101,7 @@ TEST(HtmlReport, IsSelfContainedAndCarriesTheRunsNumbers) {
     ScenarioRun run = run_scenario(s, RunRequest{{make_reference_simulator().get()}, {}, false, {}, true});
     RunReport report;
     report.scenarios.push_back(run);
-    const std::string page = to_html(report);
+    const std::string page = to_html(report).text();
 
     EXPECT_NE(page.find(plotly_js()), std::string::npos);
     EXPECT_EQ(plotly_js().find("</script"), std::string_view::npos) << "the library would close its element";
