@@ -23,6 +23,7 @@ struct EngineCapabilities {
     bool planar_2d_in_3d = false;  // 2D runs as a 3D body locked to the x-z plane
     bool per_contact_hook = true;  // supports TangentialModel::per_contact
     std::string precision;         // "double", "float"
+    double typical_ns_per_step = 1000;  // Simulator::typical_ns_per_step
 };
 
 // Lengths and times in the engine's world: x_engine = x * length, t_engine = t * time.
@@ -82,6 +83,7 @@ public:
     std::optional<std::string> cannot_run(const Scenario& s) const override;
     RunOutcome run(const Scenario& s, RunSink& sink) const final;
     bool third_party() const final { return true; }
+    double typical_ns_per_step() const final { return capabilities().typical_ns_per_step; }
 
     virtual EngineCapabilities capabilities() const = 0;
 

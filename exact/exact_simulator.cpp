@@ -12,6 +12,8 @@ namespace {
 class ExactSimulator final : public Simulator {
 public:
     std::string_view name() const override { return "exact"; }
+    // Its samples until the ball is still; the rest is a tail, free.
+    double typical_ns_per_step() const override { return 20; }
     std::string_view description() const override {
         return "the same damping law in continuous time: exact parabolas, analytic impacts, Zeno tail summed";
     }

@@ -13,7 +13,7 @@
 #include <cstring>
 #include <exception>
 #include <optional>
-#include <stdexcept>
+#include <string>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -35,9 +35,6 @@ using Pair = std::pair<std::size_t, std::size_t>;  // (simulator, item)
 
 // A result on the channel: its size (8 bytes), whether `run` returned (1 byte), the bytes.
 constexpr std::size_t kHeader = sizeof(std::uint64_t) + 1;
-// How long a killed worker may take to clean up (its programs' groups, its
-// temporary files: the SIGTERM handler) before SIGKILL.
-constexpr auto kTermGrace = std::chrono::seconds(1);
 constexpr std::size_t kStderrKept = 64 * 1024;
 
 bool write_all(int fd, const char* data, std::size_t size, int flags) {
@@ -60,6 +57,22 @@ bool read_exact(int fd, char* data, std::size_t size) {
         size -= static_cast<std::size_t>(n);
     }
     return true;
+}
+
+// Ends a worker that overstayed: SIGTERM first, so that its interrupt
+// handler kills the programs it runs and removes its temporary files,
+// SIGKILL if it is still there a second later; then reaps it.
+void terminate_worker(pid_t pid) {
+    ::kill(pid, SIGTERM);
+    const auto give_up = Clock::now() + std::chrono::seconds(1);
+    int status = 0;
+    pid_t gone = 0;
+    while ((gone = ::waitpid(pid, &status, WNOHANG)) == 0 && Clock::now() < give_up)
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    if (gone != 0) return;
+    ::kill(pid, SIGKILL);
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
 }
 
 // The worker's life: a pair's index in, its result out, until the channel closes.
@@ -310,16 +323,7 @@ private:
         for (Worker& w : workers_) {
             if (w.pid < 0 || !w.task || now - w.started < deadline()) continue;
             const double seconds = std::chrono::duration<double>(now - w.started).count();
-            ::kill(w.pid, SIGTERM);
-            const auto give_up = Clock::now() + kTermGrace;
-            int status = 0;
-            pid_t gone = 0;
-            while ((gone = ::waitpid(w.pid, &status, WNOHANG)) == 0 && Clock::now() < give_up)
-                std::this_thread::sleep_for(std::chrono::milliseconds(5));
-            if (gone == 0) {
-                ::kill(w.pid, SIGKILL);
-                reap(w.pid);
-            }
+            terminate_worker(w.pid);
             drain_errors(w);
             const std::string said = last_lines(w.stderr_text, 3);
             const std::size_t task = *w.task;
@@ -378,7 +382,9 @@ void run_pairs_in_parallel(std::size_t simulators, std::size_t items, const Pair
         for (std::size_t item = 0; item < items; ++item) pairs.emplace_back(sim, item);
     if (pairs.empty()) return;
     std::stable_sort(pairs.begin(), pairs.end(),
-                     [&](const Pair& a, const Pair& b) { return schedule.cost(a.second) > schedule.cost(b.second); });
+                     [&](const Pair& a, const Pair& b) {
+                         return schedule.cost(a.first, a.second) > schedule.cost(b.first, b.second);
+                     });
     const std::size_t jobs = schedule.jobs > 0 ? static_cast<std::size_t>(schedule.jobs) : usable_cores();
     Pool pool(pairs, schedule, std::min(jobs, pairs.size()));
     pool.run();

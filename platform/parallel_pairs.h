@@ -26,8 +26,10 @@ struct PairOutcome {
 
 struct PairSchedule {
     int jobs = 0;  // worker processes; 0: one per core
-    // Relative cost of an item (e.g. its step count): the costliest pairs start first.
-    std::function<double(std::size_t item)> cost;
+    // Relative cost of a pair (e.g. its steps x the simulator's typical cost
+    // of one): the costliest pairs start first, so that no long pair starts
+    // last and keeps one worker busy after the others are done.
+    std::function<double(std::size_t simulator, std::size_t item)> cost;
     // Wall time after which a pair is killed with its worker and reported
     // hung (s); 0: no limit.
     double deadline_seconds = 0;

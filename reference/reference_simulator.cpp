@@ -33,6 +33,7 @@ void stream_reference(ReferenceModel<D>& model, RunSink& sink) {
 class ReferenceSimulator final : public Simulator {
 public:
     std::string_view name() const override { return "reference"; }
+    double typical_ns_per_step() const override { return 3; }
     std::string_view description() const override {
         return "the seed document's explicit Euler model, bit for bit";
     }

@@ -134,6 +134,12 @@ TEST(Cli, UsageErrorsExit2AndHelpExits0) {
     EXPECT_EQ(bouncecheck("").status, 2);
     EXPECT_EQ(bouncecheck("frobnicate").status, 2);
     EXPECT_EQ(bouncecheck("run --no-such-flag").status, 2);
+    // The watchdog needs the engine in a child process to kill.
+    const CliResult budget = bouncecheck("run --budget 5 --in-process");
+    EXPECT_EQ(budget.status, 2);
+    EXPECT_NE(budget.output.find("--in-process"), std::string::npos) << budget.output;
+    EXPECT_EQ(bouncecheck("run --budget 0").status, 2);
+    EXPECT_EQ(bouncecheck("sweep " + kScenarios + "/seed-2d.toml --budget -1").status, 2);
     for (const char* cmd : {"--help", "run --help", "validate --help", "list --help"}) {
         const CliResult r = bouncecheck(cmd);
         EXPECT_EQ(r.status, 0) << cmd;

@@ -1,16 +1,17 @@
 // An engine that aborts, crashes or hangs on to the process costs only its
-// own result when engines run in child processes (RunRequest::isolate).
+// own result when engines run in worker processes (RunRequest::isolate).
 #include "commands/run/run_pipeline.h"
 #include "exact/exact_simulator.h"
-#include "platform/isolation.h"
 #include "reference/reference_simulator.h"
 #include "scenarios/loader.h"
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <thread>
 
 namespace bouncecheck {
 namespace {
@@ -77,16 +78,32 @@ TEST(Isolation, AnIsolatedRunGivesTheSameResultAsInProcess) {
     EXPECT_EQ(to_html(a).text(), to_html(b).text());
 }
 
-TEST(Isolation, ChildExitStatusAndExceptionsAreFailures) {
-    const ChildResult thrown = run_in_child([]() -> std::string { throw std::runtime_error("no world"); });
-    EXPECT_FALSE(thrown.ok);
-    EXPECT_NE(thrown.failure.find("exception: no world"), std::string::npos) << thrown.failure;
-    const ChildResult exited = run_in_child([]() -> std::string { std::_Exit(7); });
-    EXPECT_FALSE(exited.ok);
-    EXPECT_NE(exited.failure.find("exit status 7"), std::string::npos) << exited.failure;
-    const ChildResult ok = run_in_child([] { return std::string(1 << 20, 'x'); });  // larger than a pipe's buffer
-    EXPECT_TRUE(ok.ok);
-    EXPECT_EQ(ok.payload.size(), 1u << 20);
+// Never returns from its run: a step stuck in an engine's solver.
+class HangingEngine final : public Simulator {
+public:
+    std::string_view name() const override { return "hanging"; }
+    std::string_view description() const override { return "never returns from its run"; }
+    bool third_party() const override { return true; }
+    RunOutcome run(const Scenario&, RunSink& sink) const override {
+        sink.on_state(State{}, ContactMask{});
+        for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));
+    }
+};
+
+TEST(Isolation, AHangingEngineIsKilledAtTheBudgetAndFailsAsHung) {
+    const auto reference = make_reference_simulator();
+    const HangingEngine hanging;
+    RunRequest request{{&hanging, reference.get()}, {}, false, {}, true};
+    request.isolate = true;
+    request.budget_seconds = 0.3;
+    const auto start = std::chrono::steady_clock::now();
+    const ScenarioRun run = run_scenario(seed_2d(), request);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
+    ASSERT_EQ(run.results.size(), 2u);
+    EXPECT_EQ(run.results[0].status, RunStatus::failed);
+    EXPECT_EQ(run.results[0].reason.rfind("hung: no result after", 0), 0u) << run.results[0].reason;
+    EXPECT_NE(run.results[0].reason.find("over the limit of 0.3 s"), std::string::npos) << run.results[0].reason;
+    EXPECT_EQ(run.results[1].status, RunStatus::ok);
 }
 
 }  // namespace

@@ -34,7 +34,7 @@ std::map<std::pair<std::size_t, std::size_t>, Ended> run_all(
     std::map<std::pair<std::size_t, std::size_t>, Ended> ended;
     PairSchedule schedule;
     schedule.jobs = jobs;
-    schedule.cost = [](std::size_t item) { return static_cast<double>(item); };
+    schedule.cost = [](std::size_t, std::size_t item) { return static_cast<double>(item); };
     schedule.deadline_seconds = deadline;
     schedule.run = std::move(run);
     schedule.finished = [&](std::size_t sim, std::size_t item, const PairOutcome& o, std::size_t done) {
@@ -69,6 +69,20 @@ TEST(ParallelPairs, EveryPairOnceInLongLivedWorkerProcesses) {
     EXPECT_EQ(dones.size(), 60u);
     EXPECT_EQ(*dones.begin(), 1u);
     EXPECT_EQ(*dones.rbegin(), 60u);
+}
+
+TEST(ParallelPairs, TheCostliestPairsStartFirst) {
+    std::vector<std::pair<std::size_t, std::size_t>> order;
+    PairSchedule schedule;
+    schedule.jobs = 1;
+    schedule.cost = [](std::size_t sim, std::size_t item) { return sim == 1 ? 100.0 + item : static_cast<double>(item); };
+    schedule.run = pid_and;
+    schedule.finished = [&](std::size_t sim, std::size_t item, const PairOutcome&, std::size_t) {
+        order.emplace_back(sim, item);
+    };
+    run_pairs_in_parallel(2, 3, schedule);
+    const std::vector<std::pair<std::size_t, std::size_t>> expected{{1, 2}, {1, 1}, {1, 0}, {0, 2}, {0, 1}, {0, 0}};
+    EXPECT_EQ(order, expected);
 }
 
 TEST(ParallelPairs, AnAbortCostsItsOwnPairAndTheWorkerIsReplaced) {
@@ -108,6 +122,17 @@ TEST(ParallelPairs, AnExceptionIsACrashWithItsMessageAndTheWorkerGoesOn) {
         }
     }
     EXPECT_EQ(workers.size(), 1u) << "an exception does not cost the worker";
+}
+
+TEST(ParallelPairs, AWorkerThatExitsIsACrashWithItsStatus) {
+    const auto ended = run_all(1, 2, 1, [](std::size_t sim, std::size_t item) -> std::string {
+        if (item == 0) std::_Exit(7);
+        return pid_and(sim, item);
+    });
+    ASSERT_EQ(ended.size(), 2u);
+    EXPECT_EQ(ended.at({0, 0}).outcome.kind, PairOutcome::Kind::crashed);
+    EXPECT_EQ(ended.at({0, 0}).outcome.failure, "its worker process exited with status 7");
+    EXPECT_EQ(ended.at({0, 1}).outcome.kind, PairOutcome::Kind::ok);
 }
 
 TEST(ParallelPairs, AHangIsKilledByTheWatchdogAndReportedHung) {

@@ -34,6 +34,8 @@ struct RunOptions {
     bool trajectories = false;
     bool no_timings = false;
     bool in_process = false;
+    double budget = 0;  // s per engine and scenario; 0: no limit
+    int jobs = 0;       // 0: every core
     std::vector<std::string> threshold_args;  // KEY=VALUE
     ThresholdSet overrides;
     ExternalOptions external;
@@ -114,8 +116,11 @@ int command_run(RunOptions opt) {
     report.provenance = this_provenance(/*with_machine=*/!opt.no_timings);
     bool any_failed = false, any_exceeded = false;
     for (const Scenario& s : *scenarios) {
-        ScenarioRun run = run_scenario(s, RunRequest{extra->for_scenario(s, *selected), out_dir, opt.trajectories, opt.overrides, /*plots=*/true,
-                                                      /*isolate=*/!opt.in_process});
+        RunRequest request{extra->for_scenario(s, *selected), out_dir, opt.trajectories, opt.overrides,
+                           /*plots=*/true, /*isolate=*/!opt.in_process};
+        request.budget_seconds = opt.budget;
+        request.jobs = opt.jobs;
+        ScenarioRun run = run_scenario(s, request);
         // Wall-clock figures are the only outputs that differ between runs of
         // the same input: without them every file is a function of the input.
         if (opt.no_timings)
@@ -158,8 +163,17 @@ Command add_run_command(CLI::App& app) {
     command->add_flag("--trajectories", opt->trajectories,
                       "Write DIR/<scenario>/<simulator>.csv with one row per step");
     command->add_flag("--in-process", opt->in_process,
-                      "Run the engines in this process rather than each in a child process (an engine that "
-                      "aborts then ends the whole run)");
+                      "Run the engines in this process, one after another, rather than in worker processes (an "
+                      "engine that aborts then ends the whole run)");
+    command->add_option("--jobs", opt->jobs,
+                        "Engines run at once, each in a worker process (default: every core; 1 for quiet timings)")
+        ->check(CLI::Range(1, 4096))
+        ->excludes("--in-process");
+    command->add_option("--budget", opt->budget,
+                        "Wall-time limit of one engine's run of one scenario (s): past it the engine's worker process "
+                        "is killed and the engine fails as hung (default: no limit; not with --in-process)")
+        ->check(CLI::Range(0.001, 1e7))
+        ->excludes("--in-process");
     command->add_flag("--no-timings", opt->no_timings,
                       "Leave run times out of every output, so that the same input gives the same bytes");
     command->add_option("--threshold", opt->threshold_args,

@@ -1,15 +1,19 @@
 #include "commands/run/run_pipeline.h"
 
+#include "commands/wire.h"
 #include "exact/exact_simulator.h"
 #include "metrics/summary.h"
-#include "platform/isolation.h"
+#include "platform/parallel_pairs.h"
 #include "reference/reference_simulator.h"
 #include "reports/trajectory_csv.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <exception>
 #include <optional>
+#include <string>
+#include <vector>
 
 namespace bouncecheck {
 
@@ -23,20 +27,18 @@ struct Outcome {
     std::optional<ScenarioRun::SimulatorPlot> plot;
 };
 
-// ------------------------------------------------ the outcome across a pipe (CBOR keeps every double's bits)
+// ------------------------------------------------ the outcome across a worker's channel (commands/wire.h)
 
 using nlohmann::json;
 
-json opt(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
-std::optional<double> opt(const json& j) { return j.is_null() ? std::nullopt : std::optional<double>(j.get<double>()); }
-
 json encode(const TrajectoryDivergence& d) {
-    return json::array({d.samples, d.rms, d.max, opt(d.rest_cut), d.rms_before_rest, d.max_before_rest, d.tolerance,
-                        opt(d.first_exceeds)});
+    return json::array({d.samples, d.rms, d.max, wire::optional(d.rest_cut), d.rms_before_rest, d.max_before_rest,
+                        d.tolerance, wire::optional(d.first_exceeds)});
 }
 TrajectoryDivergence decode_divergence(const json& j) {
-    return TrajectoryDivergence{j[0].get<std::int64_t>(), j[1].get<double>(), j[2].get<double>(), opt(j[3]),
-                                j[4].get<double>(),       j[5].get<double>(), j[6].get<double>(), opt(j[7])};
+    return TrajectoryDivergence{j[0].get<std::int64_t>(),          j[1].get<double>(), j[2].get<double>(),
+                                wire::optional_from<double>(j[3]), j[4].get<double>(), j[5].get<double>(),
+                                j[6].get<double>(),                wire::optional_from<double>(j[7])};
 }
 
 json encode(const std::vector<Vec3>& points) {
@@ -62,8 +64,8 @@ std::string encode(const Outcome& o) {
         {"simulator", r.simulator}, {"status", static_cast<int>(r.status)}, {"reason", r.reason},
         {"counts", {r.steps, r.contacts, r.floor_contacts, r.apex_count}}, {"unbounded", r.contacts_unbounded},
         {"apexes", apexes}, {"contacts", contacts}, {"penetration", r.max_penetration},
-        {"energy", r.energy_max_rise}, {"rest", opt(r.rest_time)}, {"final_t", r.final_state.t},
-        {"filled", {opt(r.filled_from), r.fill_period, r.fill_steps}},
+        {"energy", r.energy_max_rise}, {"rest", wire::optional(r.rest_time)}, {"final_t", r.final_state.t},
+        {"filled", {wire::optional(r.filled_from), r.fill_period, r.fill_steps}},
         {"final", encode(std::vector<Vec3>{r.final_state.p, r.final_state.v})}, {"settings", settings},
         {"seconds", r.run_seconds}, {"trajectory", r.trajectory_file},
         {"vs_reference", encode(o.vs_reference)}, {"vs_exact", encode(o.vs_exact)}, {"plot", nullptr},
@@ -72,12 +74,11 @@ std::string encode(const Outcome& o) {
         j["plot"] = {{"t", o.plot->path.t}, {"p", encode(o.plot->path.p)}, {"divergence_t", o.plot->divergence_t},
                      {"divergence", o.plot->divergence}, {"error_t", o.plot->error_t}, {"error", o.plot->error}};
     }
-    const std::vector<std::uint8_t> bytes = json::to_cbor(j);
-    return std::string(bytes.begin(), bytes.end());
+    return wire::to_bytes(j);
 }
 
 Outcome decode(const std::string& bytes) {
-    const json j = json::from_cbor(bytes);
+    const json j = wire::from_bytes(bytes);
     Outcome o;
     SimulatorSummary& r = o.summary;
     r.simulator = j["simulator"].get<std::string>();
@@ -94,8 +95,8 @@ Outcome decode(const std::string& bytes) {
                                                 c[3].get<double>(), c[4].get<double>(), c[5].get<double>()});
     r.max_penetration = j["penetration"].get<double>();
     r.energy_max_rise = j["energy"].get<double>();
-    r.rest_time = opt(j["rest"]);
-    r.filled_from = opt(j["filled"][0]);
+    r.rest_time = wire::optional_from<double>(j["rest"]);
+    r.filled_from = wire::optional_from<double>(j["filled"][0]);
     r.fill_period = j["filled"][1].get<std::int64_t>();
     r.fill_steps = j["filled"][2].get<std::int64_t>();
     const std::vector<Vec3> final_state = decode_points(j["final"]);
@@ -174,26 +175,45 @@ Outcome run_one(const Simulator& sim, const Scenario& s, const RunRequest& reque
     return o;
 }
 
-// run_one in a child process: a crash there is this simulator's failure only.
-Outcome run_one_isolated(const Simulator& sim, const Scenario& s, const RunRequest& request, const Baselines& base) {
-    const ChildResult child = run_in_child([&] { return encode(run_one(sim, s, request, base)); });
-    if (child.ok) {
-        try {
-            return decode(child.payload);
-        } catch (const std::exception& e) {
-            Outcome o;
-            o.summary.simulator = std::string(sim.name());
-            o.summary.status = RunStatus::failed;
-            o.summary.reason = fmt::format("its child process sent an unreadable result: {}", e.what());
-            return o;
+// The engines (Simulator::third_party) in worker processes, when the
+// request isolates them: a crash or a hang there is that engine's failure
+// only. Their outcomes in the simulators' order; nothing where a simulator
+// runs here (not an engine, not isolated, or it cannot run the scenario).
+std::vector<std::optional<Outcome>> run_isolated(const Scenario& s, const RunRequest& request,
+                                                 const Baselines& base) {
+    const std::vector<const Simulator*>& sims = request.simulators;
+    std::vector<std::optional<Outcome>> outcomes(sims.size());
+    std::vector<std::size_t> pooled;
+    for (std::size_t i = 0; i < sims.size(); ++i)
+        if (request.isolate && sims[i]->third_party() && !sims[i]->cannot_run(s)) pooled.push_back(i);
+    PairSchedule schedule;
+    schedule.jobs = request.jobs;
+    schedule.deadline_seconds = request.budget_seconds;
+    schedule.cost = [&](std::size_t k, std::size_t) { return sims[pooled[k]]->typical_ns_per_step(); };
+    schedule.run = [&](std::size_t k, std::size_t) { return encode(run_one(*sims[pooled[k]], s, request, base)); };
+    schedule.finished = [&](std::size_t k, std::size_t, const PairOutcome& ended, std::size_t) {
+        Outcome o;
+        std::string failure;
+        if (ended.kind != PairOutcome::Kind::ok) {
+            failure = fmt::format("{}: {}", ended.kind == PairOutcome::Kind::hung ? "hung" : "crashed", ended.failure);
+        } else {
+            try {
+                o = decode(ended.payload);
+            } catch (const std::exception& e) {
+                failure = fmt::format("its worker process sent an unreadable result: {}", e.what());
+            }
         }
-    }
-    Outcome o;
-    o.summary.simulator = std::string(sim.name());
-    o.summary.status = RunStatus::failed;
-    o.summary.reason = child.failure;
-    if (request.plots) o.plot.emplace();
-    return o;
+        if (!failure.empty()) {
+            o = Outcome{};
+            o.summary.simulator = std::string(sims[pooled[k]]->name());
+            o.summary.status = RunStatus::failed;
+            o.summary.reason = std::move(failure);
+            if (request.plots) o.plot.emplace();
+        }
+        outcomes[pooled[k]] = std::move(o);
+    };
+    run_pairs_in_parallel(pooled.size(), 1, schedule);
+    return outcomes;
 }
 
 }  // namespace
@@ -209,8 +229,10 @@ ScenarioRun run_scenario(const Scenario& s, const RunRequest& request) {
         run.exact_apexes = exact_summary.apexes;
     }
     const Baselines base{exact, reference, exact_summary, run.exact_path};
+    std::vector<std::optional<Outcome>> isolated = run_isolated(s, request, base);
 
-    for (const Simulator* sim : request.simulators) {
+    for (std::size_t i = 0; i < request.simulators.size(); ++i) {
+        const Simulator* sim = request.simulators[i];
         if (auto why = sim->cannot_run(s)) {
             SimulatorSummary skipped;
             skipped.simulator = std::string(sim->name());
@@ -222,8 +244,7 @@ ScenarioRun run_scenario(const Scenario& s, const RunRequest& request) {
             if (request.plots) run.plots.emplace_back();
             continue;
         }
-        Outcome o = request.isolate && sim->third_party() ? run_one_isolated(*sim, s, request, base)
-                                                          : run_one(*sim, s, request, base);
+        Outcome o = isolated[i] ? std::move(*isolated[i]) : run_one(*sim, s, request, base);
         o.summary.origin = std::string(sim->origin());
         const ThresholdSet limits = limits_for(s, o.summary.simulator, request.threshold_overrides);
         const int bounce_count = limits.bounce_count.value_or(kDefaultBounceCount);

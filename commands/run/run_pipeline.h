@@ -17,9 +17,14 @@ struct RunRequest {
     bool trajectories = false;
     ThresholdSet threshold_overrides;  // from the command line: over the scenario's, for every simulator
     bool plots = false;  // record what report.html draws (decimated paths, distances over time)
-    // Run each engine (Simulator::third_party) in a child process, so that an
-    // engine that aborts costs only its own result.
+    // Run the engines (Simulator::third_party) in worker processes
+    // (run_pairs_in_parallel), `jobs` at once, so that an engine that aborts
+    // costs only its own result.
     bool isolate = false;
+    int jobs = 0;  // worker processes; 0: every core
+    // With isolate: an engine still running after this many seconds is
+    // killed with its worker and fails as hung. 0: no limit.
+    double budget_seconds = 0;
 };
 
 // Runs the baselines (reference and exact) first, then each selected

@@ -77,7 +77,8 @@ int command_stress(const StressOptions& opt) {
     request.jobs = opt.jobs;
     request.budget_seconds = opt.budget;
     request.on_progress = [](const StressResult& r, std::size_t done, std::size_t total) {
-        if (r.row == r.scenario || r.outcome == StressOutcome::crashed || r.outcome == StressOutcome::hung)
+        const bool lost = r.outcome == StressOutcome::crashed || r.outcome == StressOutcome::hung;
+        if (r.row == r.scenario || lost)
             fmt::print(stderr, "[{}/{}] {} {}: {}{}{}\n", done, total, r.scenario, r.simulator, to_string(r.outcome),
                        r.reason.empty() ? "" : ": ", r.reason);
     };
@@ -114,7 +115,8 @@ Command add_stress_command(CLI::App& app) {
         "stress", "Run the stress suite (scenarios/stress/*.toml, wall starts, a Monte-Carlo set) on every selected "
                    "simulator and check its invariants");
     command->add_option("--engines", opt->engines, "Comma-separated simulators (default: every one built)");
-    command->add_option("--jobs", opt->jobs, "Runs at once, each in a worker process (default: every core)")->check(CLI::Range(1, 4096));
+    command->add_option("--jobs", opt->jobs, "Runs at once, each in a worker process (default: every core)")
+        ->check(CLI::Range(1, 4096));
     command->add_option("--out", opt->out_dir, "Output folder for stress.json and stress.csv")
         ->capture_default_str();
     command->add_option("--only", opt->only,

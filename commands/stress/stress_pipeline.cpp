@@ -1,10 +1,10 @@
 #include "commands/stress/stress_pipeline.h"
 
+#include "commands/wire.h"
 #include "metrics/summary.h"
 #include "platform/parallel_pairs.h"
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -218,31 +218,27 @@ StressResult run_stress_case(const StressCase& c, const Simulator& sim, double b
 
 namespace {
 
-// ------------------------------------------------ a result across the worker's channel (CBOR keeps every double's bits)
+// ------------------------------------------------ a result across a worker's channel (commands/wire.h)
 
 using nlohmann::json;
-
-json opt(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
-std::optional<double> opt(const json& j) { return j.is_null() ? std::nullopt : std::optional<double>(j.get<double>()); }
 
 std::string encode(const StressResult& r) {
     json checks = json::array();
     for (const InvariantCheck& c : r.checks)
-        checks.push_back({static_cast<int>(c.invariant), c.checked, c.held, c.tolerance, c.worst, opt(c.first_t),
-                          c.first_value});
-    const json j{static_cast<int>(r.outcome), r.reason, checks, r.steps, r.run_seconds, r.ccd, r.substeps};
-    const std::vector<std::uint8_t> bytes = json::to_cbor(j);
-    return {bytes.begin(), bytes.end()};
+        checks.push_back({static_cast<int>(c.invariant), c.checked, c.held, c.tolerance, c.worst,
+                          wire::optional(c.first_t), c.first_value});
+    return wire::to_bytes({static_cast<int>(r.outcome), r.reason, checks, r.steps, r.run_seconds, r.ccd, r.substeps});
 }
 
 // Fills in what the worker computed; row, scenario and simulator are the parent's.
 void decode(const std::string& bytes, StressResult& r) {
-    const json j = json::from_cbor(bytes);
+    const json j = wire::from_bytes(bytes);
     r.outcome = static_cast<StressOutcome>(j[0].get<int>());
     r.reason = j[1].get<std::string>();
     for (const json& c : j[2])
         r.checks.push_back(InvariantCheck{static_cast<Invariant>(c[0].get<int>()), c[1].get<bool>(), c[2].get<bool>(),
-                                          c[3].get<double>(), c[4].get<double>(), opt(c[5]), c[6].get<double>()});
+                                          c[3].get<double>(), c[4].get<double>(), wire::optional_from<double>(c[5]),
+                                          c[6].get<double>()});
     r.steps = j[3].get<std::int64_t>();
     r.run_seconds = j[4].get<double>();
     r.ccd = j[5].get<std::string>();
@@ -267,7 +263,11 @@ StressReport run_stress(const std::vector<StressCase>& cases, const StressReques
     PairSchedule schedule;
     schedule.jobs = request.jobs;
     schedule.deadline_seconds = stress_deadline_seconds(request.budget_seconds);
-    schedule.cost = [&](std::size_t c) { return cases[c].scenario.duration / cases[c].scenario.dt; };
+    schedule.cost = [&](std::size_t e, std::size_t c) {
+        const Scenario& s = cases[c].scenario;
+        const double ns = s.duration / s.dt * request.simulators[e]->typical_ns_per_step();
+        return std::min(ns, request.budget_seconds * 1e9);  // a run ends at its budget
+    };
     schedule.run = [&](std::size_t e, std::size_t c) {
         return encode(run_stress_case(cases[c], *request.simulators[e], request.budget_seconds));
     };

@@ -1,10 +1,10 @@
 #include "commands/sweep/sweep_pipeline.h"
 
 #include "commands/run/run_pipeline.h"
+#include "commands/wire.h"
 #include "platform/parallel_pairs.h"
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -170,37 +170,26 @@ SweepOrder fit_order(const std::vector<SweepRow>& rows, const std::string& engin
 
 namespace {
 
-// ------------------------------------------------ a row across the worker's channel (CBOR keeps every double's bits)
-
-using nlohmann::json;
-
-template <typename T>
-json opt(const std::optional<T>& v) {
-    return v ? json(*v) : json(nullptr);
-}
-template <typename T>
-std::optional<T> opt(const json& j) {
-    return j.is_null() ? std::nullopt : std::optional<T>(j.get<T>());
-}
+// ------------------------------------------------ a row across a worker's channel (commands/wire.h)
 
 std::string encode(const SweepRow& r) {
-    const json j{static_cast<int>(r.status), r.reason,          opt(r.error),          opt(r.bounce_error),
-                 opt(r.ns_per_step),        opt(r.sec_per_sim_sec), opt(r.steps), opt(r.min_seconds)};
-    const std::vector<std::uint8_t> bytes = json::to_cbor(j);
-    return {bytes.begin(), bytes.end()};
+    using wire::optional;
+    return wire::to_bytes({static_cast<int>(r.status), r.reason, optional(r.error), optional(r.bounce_error),
+                           optional(r.ns_per_step), optional(r.sec_per_sim_sec), optional(r.steps),
+                           optional(r.min_seconds)});
 }
 
 // Fills in what the worker computed; engine and dt are the parent's.
 void decode(const std::string& bytes, SweepRow& r) {
-    const json j = json::from_cbor(bytes);
+    const nlohmann::json j = wire::from_bytes(bytes);
     r.status = static_cast<RunStatus>(j[0].get<int>());
     r.reason = j[1].get<std::string>();
-    r.error = opt<double>(j[2]);
-    r.bounce_error = opt<double>(j[3]);
-    r.ns_per_step = opt<double>(j[4]);
-    r.sec_per_sim_sec = opt<double>(j[5]);
-    r.steps = opt<std::int64_t>(j[6]);
-    r.min_seconds = opt<double>(j[7]);
+    r.error = wire::optional_from<double>(j[2]);
+    r.bounce_error = wire::optional_from<double>(j[3]);
+    r.ns_per_step = wire::optional_from<double>(j[4]);
+    r.sec_per_sim_sec = wire::optional_from<double>(j[5]);
+    r.steps = wire::optional_from<std::int64_t>(j[6]);
+    r.min_seconds = wire::optional_from<double>(j[7]);
 }
 
 }  // namespace
@@ -215,7 +204,9 @@ SweepResult run_sweep(const Scenario& s, const SweepRequest& request) {
     PairSchedule schedule;
     schedule.jobs = request.jobs;
     schedule.deadline_seconds = request.budget_seconds;
-    schedule.cost = [&](std::size_t d) { return 1.0 / request.dts[d]; };  // steps: the smallest dt costs most
+    schedule.cost = [&](std::size_t e, std::size_t d) {
+        return s.duration / request.dts[d] * request.simulators[e]->typical_ns_per_step();
+    };
     schedule.run = [&](std::size_t e, std::size_t d) {
         return encode(run_pair(s, *request.simulators[e], request.dts[d], repeat));
     };

@@ -293,6 +293,7 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
     EngineCapabilities caps;
     caps.runs_3d = false;
     caps.precision = "float";
+    caps.typical_ns_per_step = 890;
     // Box2D 2.4 counts GJK and TOI calls in unsynchronised globals
     // (b2_gjkCalls, b2_toiCalls): one world at a time per process, as every
     // pair runs in a worker process of its own (platform/parallel_pairs.h).

@@ -432,6 +432,7 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
     EngineCapabilities caps;
     caps.planar_2d_in_3d = true;
     caps.precision = "double";
+    caps.typical_ns_per_step = 1490;
     return make_engine_simulator(
         {"bullet", "Bullet 3.24 (double): sphere in six static planes, sequential-impulse solver, one step of dt",
          caps, [tuning](const Scenario& s, const EngineOptions& options, std::vector<Setting>& settings)

@@ -326,6 +326,7 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
     EngineCapabilities caps;
     caps.runs_3d = false;
     caps.precision = "double";
+    caps.typical_ns_per_step = 280;
     // After library_check() no global state of Chipmunk 7.0.3 is written by
     // creating or stepping a space (cpSpaceInit's banner flag is the only
     // writable static in the library; shape ids and every buffer are per space).

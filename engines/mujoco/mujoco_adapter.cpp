@@ -645,6 +645,7 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
     EngineCapabilities caps;
     caps.planar_2d_in_3d = true;
     caps.precision = "double";
+    caps.typical_ns_per_step = 1390;
     return make_engine_simulator(
         {"mujoco", "MuJoCo 2.2.2 (double): sphere on slide joints in six planes, one-step damper contacts, Euler",
          caps, [tuning](const Scenario& s, const EngineOptions& options, std::vector<Setting>& settings)

@@ -409,7 +409,7 @@ void SiconosWorld::report(const Scenario& s, const EngineOptions& options, std::
     set("rotation", e.dofs > s.dim ? "free" : (options.free_rotation ? "not modelled (no friction)" : "locked"),
         "scenario [engines.<name>] rotation");
     set("threads", event_driven_ ? kEventDrivenSerial : kTimeSteppingSerial,
-        "one world at a time per process: sweep and stress run each pair in a worker process of its own");
+        "one world at a time per process: run, sweep and stress give each run a worker process of its own");
     const int blas = limit_blas_threads();
     set("blas_threads", blas > 0 ? std::to_string(blas) : "not OpenBLAS: its own",
         "OpenBLAS's default is one thread per core, spinning between calls: it took a second core per process "
@@ -434,6 +434,7 @@ public:
     EngineCapabilities capabilities() const override {
         EngineCapabilities caps;
         caps.precision = "double";
+        caps.typical_ns_per_step = event_driven_ ? 7500 : 7000;
         return caps;
     }
     std::optional<std::string> cannot_run(const Scenario& s) const override {
