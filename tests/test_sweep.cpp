@@ -10,16 +10,18 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
-#include <chrono>
-#include <cstdlib>
 #include <string>
 #include <thread>
+#include <utility>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -215,24 +217,30 @@ TEST(SweepRows, SkippedPairIsARowWithItsReason) {
     EXPECT_TRUE(json["rows"][2]["error"].is_null());
 }
 
-// Throws on the finer step only.
-class Fragile final : public Simulator {
+// The reference, faulty at some time steps: `fault(dt)` runs first, and may
+// throw, abort (in its worker process) or never return.
+class Faulty final : public Simulator {
 public:
-    explicit Fragile(const Simulator& inner) : inner_(inner) {}
-    std::string_view name() const override { return "fragile"; }
-    std::string_view description() const override { return "reference that throws below dt = 0.02"; }
+    Faulty(const Simulator& inner, std::string_view name, std::function<void(double)> fault)
+        : inner_(inner), name_(name), fault_(std::move(fault)) {}
+    std::string_view name() const override { return name_; }
+    std::string_view description() const override { return "the reference, faulty at some time steps"; }
     RunOutcome run(const Scenario& s, RunSink& sink) const override {
-        if (s.dt < 0.02) throw std::runtime_error("too fine");
+        fault_(s.dt);
         return inner_.run(s, sink);
     }
 
 private:
     const Simulator& inner_;
+    std::string_view name_;
+    std::function<void(double)> fault_;
 };
 
 TEST(SweepRows, FailedPairIsARowWithItsReason) {
     auto all = built_simulators();
-    const Fragile fragile(*find_simulator(all, "reference"));
+    const Faulty fragile(*find_simulator(all, "reference"), "fragile", [](double dt) {
+        if (dt < 0.02) throw std::runtime_error("too fine");
+    });
     const Scenario s = load_scenario(kScenarios + "/seed-2d.toml");
     SweepRequest request;
     request.simulators = {&fragile};
@@ -248,26 +256,13 @@ TEST(SweepRows, FailedPairIsARowWithItsReason) {
     EXPECT_FALSE(r.orders[0].order);
 }
 
-// In a worker process: aborts on one step and never returns on another.
-class Doomed final : public Simulator {
-public:
-    explicit Doomed(const Simulator& inner) : inner_(inner) {}
-    std::string_view name() const override { return "doomed"; }
-    std::string_view description() const override { return "reference that aborts at dt = 0.015, hangs at 0.0075"; }
-    RunOutcome run(const Scenario& s, RunSink& sink) const override {
-        if (s.dt == 0.015) std::abort();
-        if (s.dt == 0.0075)
-            for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));
-        return inner_.run(s, sink);
-    }
-
-private:
-    const Simulator& inner_;
-};
-
 TEST(SweepRows, CrashedAndHungPairsCostTheirOwnRowsOnly) {
     auto all = built_simulators();
-    const Doomed doomed(*find_simulator(all, "reference"));
+    const Faulty doomed(*find_simulator(all, "reference"), "doomed", [](double dt) {
+        if (dt == 0.015) std::abort();
+        if (dt == 0.0075)
+            for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));  // a step that never returns
+    });
     const Scenario s = load_scenario(kScenarios + "/seed-2d.toml");
     SweepRequest request;
     request.simulators = {&doomed, find_simulator(all, "reference")};
