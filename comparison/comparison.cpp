@@ -7,33 +7,48 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
-#include <variant>
+#include <optional>
 
 namespace bouncecheck {
 
-// Running distance statistics against one baseline.
+// Running distance statistics against one baseline, kept on squared
+// distances: the sum of squares needs no square root, and the largest
+// distance is the root of the largest square (sqrt is monotone and
+// correctly rounded), so a sample costs no root unless it may be the first
+// beyond the tolerance.
 struct TrajectoryComparer::Stats {
-    explicit Stats(std::optional<double> rest) { result.rest_cut = rest; }
-    void add(double t, double distance) {
-        sum_sq += distance * distance;
-        ++result.samples;
-        result.max = std::max(result.max, distance);
-        if (!result.rest_cut || t < *result.rest_cut) {
-            sum_sq_before += distance * distance;
+    explicit Stats(std::optional<double> rest)
+        : cut(rest.value_or(std::numeric_limits<double>::infinity())),
+          // Below this no distance exceeds the tolerance (a margin for the
+          // rounding of the square).
+          screen(0.999 * kDivergenceTolerance * kDivergenceTolerance) {
+        result.rest_cut = rest;
+    }
+    void add(double t, double squared) {
+        sum_sq += squared;
+        ++samples;
+        max_sq = std::max(max_sq, squared);
+        if (t < cut) {
+            sum_sq_before += squared;
             ++samples_before;
-            result.max_before_rest = std::max(result.max_before_rest, distance);
+            max_sq_before = std::max(max_sq_before, squared);
         }
-        if (!result.first_exceeds && distance > result.tolerance) result.first_exceeds = t;
+        if (squared > screen && !result.first_exceeds && std::sqrt(squared) > result.tolerance)
+            result.first_exceeds = t;
     }
     TrajectoryDivergence finished() const {
         TrajectoryDivergence out = result;
-        if (out.samples > 0) out.rms = std::sqrt(sum_sq / static_cast<double>(out.samples));
+        out.samples = samples;
+        out.max = std::sqrt(max_sq);
+        out.max_before_rest = std::sqrt(max_sq_before);
+        if (samples > 0) out.rms = std::sqrt(sum_sq / static_cast<double>(samples));
         if (samples_before > 0) out.rms_before_rest = std::sqrt(sum_sq_before / static_cast<double>(samples_before));
         return out;
     }
     TrajectoryDivergence result;
-    double sum_sq = 0, sum_sq_before = 0;
-    std::int64_t samples_before = 0;
+    double cut, screen;
+    double sum_sq = 0, sum_sq_before = 0, max_sq = 0, max_sq_before = 0;
+    std::int64_t samples = 0, samples_before = 0;
 };
 
 // The reference in lockstep with the compared stream: its sample n is at the
@@ -45,6 +60,10 @@ struct TrajectoryComparer::LockstepReference {
     struct Replaying {
         explicit Replaying(const Scenario& s) : model(s) {}
         Vec3 next_position() {
+            if (!started) {
+                started = true;
+                return model.state().p;
+            }
             if (replaying) {
                 const Vec3& p = model.held_cycle()[phase].p;
                 if (++phase == model.held_cycle().size()) phase = 0;
@@ -63,42 +82,36 @@ struct TrajectoryComparer::LockstepReference {
             const auto period = static_cast<std::int64_t>(model.held_cycle().size());
             phase = static_cast<std::size_t>((static_cast<std::int64_t>(phase) + samples) % period);
         }
+        std::int64_t replay_period() const {
+            return replaying ? static_cast<std::int64_t>(model.held_cycle().size()) : 0;
+        }
         ReferenceModel<D> model;
         std::size_t phase = 0;
-        bool replaying = false;
+        bool started = false, replaying = false;
     };
 
-    using Model = std::variant<Replaying<2>, Replaying<3>>;
-    static Model make(const Scenario& s) {
-        if (s.dim == 2) return Replaying<2>(s);
-        return Replaying<3>(s);
+    explicit LockstepReference(const Scenario& s) {
+        if (s.dim == 2) two.emplace(s);
+        else three.emplace(s);
     }
-    explicit LockstepReference(const Scenario& s) : model(make(s)) {}
-    Vec3 next_position() {
-        if (!started) {
-            started = true;
-            return std::visit([](auto& m) { return m.model.state().p; }, model);
-        }
-        return std::visit([](auto& m) { return m.next_position(); }, model);
+    // One of the two: the dimension is picked per call by a branch the
+    // predictor always gets right, not by a visit that inlines nothing.
+    std::optional<Replaying<2>> two;
+    std::optional<Replaying<3>> three;
+    template <class F>
+    decltype(auto) with(F&& f) {
+        return two ? f(*two) : f(*three);
     }
-    // Replaying its cycle from the next sample on: the cycle's length, else 0.
-    std::int64_t replay_period() const {
-        return std::visit(
-            [](auto& m) { return m.replaying ? static_cast<std::int64_t>(m.model.held_cycle().size()) : 0; }, model);
+    template <class F>
+    decltype(auto) with(F&& f) const {
+        return two ? f(*two) : f(*three);
     }
-    const Vec3& replayed(std::size_t ahead) const {
-        return std::visit([&](auto& m) -> const Vec3& { return m.replayed(ahead); }, model);
-    }
-    void skip(std::int64_t samples) {
-        std::visit([&](auto& m) { m.skip(samples); }, model);
-    }
-    Model model;
-    bool started = false;
 };
 
 TrajectoryComparer::TrajectoryComparer(const Scenario& s, const ExactModel& exact,
                                        std::optional<double> reference_rest, std::optional<double> exact_rest)
-    : exact_(exact),
+    : exact_model_(exact),
+      exact_(exact),
       reference_(std::make_unique<LockstepReference>(s)),
       vs_reference_(std::make_unique<Stats>(reference_rest)),
       vs_exact_(std::make_unique<Stats>(exact_rest)) {}
@@ -106,13 +119,17 @@ TrajectoryComparer::TrajectoryComparer(const Scenario& s, const ExactModel& exac
 TrajectoryComparer::~TrajectoryComparer() = default;
 
 void TrajectoryComparer::write(const State& s) {
-    const double to_reference = (s.p - reference_->next_position()).norm();
-    const double to_exact = (s.p - exact_.state_at(s.t).p).norm();
-    vs_reference_->add(s.t, to_reference);
-    vs_exact_->add(s.t, to_exact);
+    const double to_reference = reference_->with([&](auto& r) { return (s.p - r.next_position()).squaredNorm(); });
+    const double to_exact = (s.p - exact_.state(s.t).p).squaredNorm();
+    add(s.t, to_reference, to_exact);
+}
+
+void TrajectoryComparer::add(double t, double to_reference, double to_exact) {
+    vs_reference_->add(t, to_reference);
+    vs_exact_->add(t, to_exact);
     if (reference_series_) {
-        reference_series_->add(s.t, to_reference);
-        exact_series_->add(s.t, to_exact);
+        reference_series_->add(t, to_reference);
+        exact_series_->add(t, to_exact);
     }
 }
 
@@ -122,30 +139,24 @@ void TrajectoryComparer::write_periodic(const PeriodicTail& tail) {
     // The common period of the tail and the reference's cycle, if both
     // baselines repeat from the next sample on and it is not too long.
     auto common_period = [&]() -> std::int64_t {
-        const std::int64_t reference_period = reference_->replay_period();
-        if (reference_period == 0 || !exact_.still_after(at.next_t())) return 0;
+        const std::int64_t reference_period = reference_->with([](auto& r) { return r.replay_period(); });
+        if (reference_period == 0 || !exact_model_.still_after(at.next_t())) return 0;
         const std::int64_t common = std::lcm(period, reference_period);
         return common <= kMaxReplayedPeriod ? common : 0;
     };
     std::int64_t common = 0;
     while (at.left() > 0 && (common = common_period()) == 0) write(at.next());
     if (at.left() == 0) return;
-    const Vec3 exact_p = exact_.state_at(at.next_t()).p;  // still: the same at every later sample
+    const Vec3 exact_p = exact_model_.state_at(at.next_t()).p;  // still: the same at every later sample
     std::vector<double> to_reference(common), to_exact(common);
     for (std::int64_t j = 0; j < common; ++j) {
         const Vec3& p = tail.cycle[(at.phase() + j) % period].p;
-        to_reference[j] = (p - reference_->replayed(j)).norm();
-        to_exact[j] = (p - exact_p).norm();
+        to_reference[j] = reference_->with([&](auto& r) { return (p - r.replayed(j)).squaredNorm(); });
+        to_exact[j] = (p - exact_p).squaredNorm();
     }
-    reference_->skip(at.left());
+    reference_->with([&](auto& r) { r.skip(at.left()); });
     for (std::int64_t j = 0; at.left() > 0;) {
-        const double t = at.pass();
-        vs_reference_->add(t, to_reference[j]);
-        vs_exact_->add(t, to_exact[j]);
-        if (reference_series_) {
-            reference_series_->add(t, to_reference[j]);
-            exact_series_->add(t, to_exact[j]);
-        }
+        add(at.pass(), to_reference[j], to_exact[j]);
         if (++j == common) j = 0;
     }
 }
@@ -155,6 +166,19 @@ void TrajectoryComparer::record_series(std::int64_t stride) {
     exact_series_.emplace(stride);
 }
 
+namespace {
+
+std::optional<DistanceSeries> rooted(const std::optional<WindowMaxSeries>& squared) {
+    if (!squared) return std::nullopt;
+    DistanceSeries out{squared->times(), squared->values()};
+    for (double& v : out.distance) v = std::sqrt(v);
+    return out;
+}
+
+}  // namespace
+
+std::optional<DistanceSeries> TrajectoryComparer::reference_series() const { return rooted(reference_series_); }
+std::optional<DistanceSeries> TrajectoryComparer::exact_series() const { return rooted(exact_series_); }
 TrajectoryDivergence TrajectoryComparer::vs_reference() const { return vs_reference_->finished(); }
 TrajectoryDivergence TrajectoryComparer::vs_exact() const { return vs_exact_->finished(); }
 

@@ -48,6 +48,12 @@ struct Divergence {
     TrajectoryDivergence trajectory;
 };
 
+// A distance over time as report.html plots it: the largest of each window
+// of samples, with its time (WindowMaxSeries).
+struct DistanceSeries {
+    std::vector<double> t, distance;
+};
+
 // Compares a simulator's state stream, as it streams, with the reference
 // (stepped alongside) and with exact. Pass it as the run's StateSink.
 class TrajectoryComparer final : public StateSink {
@@ -67,16 +73,19 @@ public:
     // every `stride` samples (see WindowMaxSeries).
     void record_series(std::int64_t stride);
     // Empty unless record_series was called.
-    const std::optional<WindowMaxSeries>& reference_series() const { return reference_series_; }
-    const std::optional<WindowMaxSeries>& exact_series() const { return exact_series_; }
+    std::optional<DistanceSeries> reference_series() const;
+    std::optional<DistanceSeries> exact_series() const;
 
 private:
     struct Stats;
     struct LockstepReference;
-    const ExactModel& exact_;
+    // One sample's squared distances (every figure is kept squared until read).
+    void add(double t, double to_reference, double to_exact);
+    const ExactModel& exact_model_;
+    ExactModel::Cursor exact_;  // the stream's times do not decrease
     std::unique_ptr<LockstepReference> reference_;
     std::unique_ptr<Stats> vs_reference_, vs_exact_;
-    std::optional<WindowMaxSeries> reference_series_, exact_series_;
+    std::optional<WindowMaxSeries> reference_series_, exact_series_;  // of squared distances
 };
 
 // Bounce-by-bounce comparison of two summaries' apexes and floor contacts.

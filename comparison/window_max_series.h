@@ -12,7 +12,17 @@ namespace bouncecheck {
 class WindowMaxSeries {
 public:
     explicit WindowMaxSeries(std::int64_t stride) : stride_(stride < 1 ? 1 : stride) {}
-    void add(double t, double value);
+    void add(double t, double value) {
+        if (in_window_ == 0 || value > window_max_) {
+            window_max_ = value;
+            window_t_ = t;
+        }
+        if (++in_window_ == stride_) {
+            t_.push_back(window_t_);
+            v_.push_back(window_max_);
+            in_window_ = 0;
+        }
+    }
     // The values so far, the current partial window included.
     std::vector<double> times() const;
     std::vector<double> values() const;

@@ -343,19 +343,23 @@ void ExactModel::lock_resting_axes(Motion& m) {
     }
 }
 
-State ExactModel::state_at(double t) const {
+std::size_t ExactModel::segment_of(double t) const {
     // Every sample after the last event (the ball at rest, typically) is in
     // the last segment: no search.
-    if (t >= segments_.back().t0) return evaluate(segments_.size() - 1, t);
+    if (t >= segments_.back().t0) return segments_.size() - 1;
     const auto after = std::upper_bound(segments_.begin(), segments_.end(), t,
                                         [](double time, const Segment& s) { return time < s.t0; });
-    const auto index = after == segments_.begin() ? 0 : static_cast<std::size_t>(after - segments_.begin()) - 1;
-    return evaluate(index, t);
+    return after == segments_.begin() ? 0 : static_cast<std::size_t>(after - segments_.begin()) - 1;
 }
 
-State ExactModel::evaluate(std::size_t segment, double t) const {
+State ExactModel::state_at(double t) const {
+    TailHop hop;
+    return evaluate(segment_of(t), t, hop);
+}
+
+State ExactModel::evaluate(std::size_t segment, double t, TailHop& hop) const {
     const Segment& s = segments_[segment];
-    if (s.zeno_tail) return tail_state(t);
+    if (s.zeno_tail) return tail_state(t, hop);
     const double tau = t - s.t0;
     State out{t, position_after(s.p0, s.v0, s.accel, tau), s.v0 + tau * s.accel};
     clamp_into_room(out.p);
@@ -378,31 +382,44 @@ bool ExactModel::still_from(std::size_t segment, double t) const {
 
 // Hop k of the tail starts at flight0 (1 - alpha^k) / (1 - alpha): invert that
 // for k, then evaluate the hop's parabola and the tangential travel so far.
-State ExactModel::tail_state(double t) const {
+State ExactModel::tail_state(double t, TailHop& hop) const {
     const ZenoTail& z = *tail_;
     const double tau = t - z.t0;
     const double alpha_k_estimate = 1 - tau * (1 - alpha_) / z.flight0;
     if (!(tau < z.length && alpha_k_estimate > 0)) return State{t, z.rest_p, z.rest_v};
-    const auto hop_start = [&](double k) { return z.flight0 * (1 - std::pow(alpha_, k)) / (1 - alpha_); };
-    double k = tau > 0 ? std::floor(std::log(alpha_k_estimate) / std::log(alpha_)) : 0;
-    // The logarithm can land one hop off at a hop boundary.
-    if (k > 0 && hop_start(k) > tau)
-        k -= 1;
-    else if (hop_start(k + 1) <= tau)
-        k += 1;
-    const double alpha_k = std::pow(alpha_, k);
-    const double beta_k = std::pow(beta_, k);
-    const double alpha_beta = alpha_ * beta_;
-    const double u = z.u * alpha_k;
-    const double since_bounce = std::clamp(tau - hop_start(k), 0.0, z.flight0 * alpha_k);
+    // The hop is the last one to start by tau; hop starts grow with k, so a
+    // kept hop whose span holds tau is that one.
+    if (!(hop.k >= 0 && hop.start <= tau && tau < hop.next_start)) hop = tail_hop(tau, alpha_k_estimate);
+    const double u = z.u * hop.alpha_k;
+    const double since_bounce = std::clamp(tau - hop.start, 0.0, hop.flight);
     const double rise = std::max(0.0, since_bounce * (u - 0.5 * z.g * since_bounce));
     // Tangential: sum_{i<k} flight0 alpha^i beta^i of full hops, then this one.
-    const double travel_time = z.flight0 * (1 - std::pow(alpha_beta, k)) / (1 - alpha_beta) + beta_k * since_bounce;
-    State out{t, z.p0 + travel_time * z.v0, beta_k * z.v0};
+    const double travel_time = hop.full_hops_travel_time + hop.beta_k * since_bounce;
+    State out{t, z.p0 + travel_time * z.v0, hop.beta_k * z.v0};
     out.p[z.axis] = wall(z.axis, z.side) - z.side * rise;
     out.v[z.axis] = -z.side * (u - z.g * since_bounce);
     clamp_into_room(out.p);
     return out;
+}
+
+ExactModel::TailHop ExactModel::tail_hop(double tau, double alpha_k_estimate) const {
+    const ZenoTail& z = *tail_;
+    const auto hop_start = [&](double k) { return z.flight0 * (1 - std::pow(alpha_, k)) / (1 - alpha_); };
+    double k = tau > 0 ? std::floor(std::log(alpha_k_estimate) / std::log(alpha_)) : 0;
+    // The logarithm can land a hop off at a hop boundary. Past alpha^k = 0
+    // the starts stop growing: no later hop starts by tau.
+    while (k > 0 && hop_start(k) > tau) k -= 1;
+    while (std::pow(alpha_, k + 1) > 0 && hop_start(k + 1) <= tau) k += 1;
+    TailHop hop;
+    hop.k = k;
+    hop.start = hop_start(k);
+    hop.next_start = hop_start(k + 1);
+    hop.alpha_k = std::pow(alpha_, k);
+    hop.beta_k = std::pow(beta_, k);
+    hop.flight = z.flight0 * hop.alpha_k;
+    const double alpha_beta = alpha_ * beta_;
+    hop.full_hops_travel_time = z.flight0 * (1 - std::pow(alpha_beta, k)) / (1 - alpha_beta);
+    return hop;
 }
 
 void ExactModel::clamp_into_room(Vec3& p) const {

@@ -109,7 +109,8 @@ public:
     // clamped into the room.
     explicit ExactModel(const Scenario& s, std::int64_t max_events = kDefaultMaxEvents);
 
-    // Exact state at t, O(log segments). At a contact instant it returns the
+    // Exact state at t, O(log segments) (a Cursor walks a stream's times in
+    // O(1)). At a contact instant it returns the
     // velocity after the contact. The position is always inside [r, size - r].
     State state_at(double t) const;
 
@@ -139,14 +140,12 @@ public:
 
     // Calls sink(const State&) at the document clock's times (t_0 = 0,
     // t_{n+1} = t_n + dt while |t_n| < |duration|): document_step_count + 1
-    // rows. A monotone cursor makes the whole sequence O(rows + segments).
+    // rows. A cursor makes the whole sequence O(rows + segments).
     template <class Sink>
     void sample_document_clock(Sink&& sink) const {
-        std::size_t segment = 0;
+        Cursor at(*this);
         for (DocumentClock clock(dt_, duration_);; clock.advance()) {
-            const double t = clock.t();
-            while (segment + 1 < segments_.size() && segments_[segment + 1].t0 <= t) ++segment;
-            sink(evaluate(segment, t));
+            sink(at.state(clock.t()));
             if (!clock.running()) break;
         }
     }
@@ -163,15 +162,51 @@ public:
     // to the end.
     template <class Sink>
     std::optional<DocumentClock> sample_document_clock_until_still(Sink&& sink) const {
-        std::size_t segment = 0;
+        Cursor at(*this);
         for (DocumentClock clock(dt_, duration_);; clock.advance()) {
             const double t = clock.t();
-            while (segment + 1 < segments_.size() && segments_[segment + 1].t0 <= t) ++segment;
-            sink(evaluate(segment, t));
+            sink(at.state(t));
             if (!clock.running()) return std::nullopt;
-            if (segment + 1 == segments_.size() && still_from(segment, t)) return clock;
+            if (at.segment() + 1 == segments_.size() && still_from(at.segment(), t)) return clock;
         }
     }
+
+private:
+    // The hop of the summed Zeno tail (ZenoTail) that a time falls in, with
+    // what evaluating it needs: a cursor keeps the last one, so a stream's
+    // samples within one hop cost no pow or log.
+    struct TailHop {
+        double k = -1;  // hop index; -1: none yet
+        double start = 0, next_start = 0;  // tau at which hop k and hop k + 1 start
+        double alpha_k = 0, beta_k = 0;
+        double flight = 0;                 // hop k's flight time
+        double full_hops_travel_time = 0;  // sum_{i<k} flight0 (alpha beta)^i
+    };
+
+public:
+    // The solution at a stream's sample times, which do not decrease: O(1)
+    // amortized per sample where state_at searches (it walks the segments
+    // forward and keeps the Zeno tail's current hop). The same states as
+    // state_at, bit for bit; a time before the last one is searched for.
+    class Cursor {
+    public:
+        explicit Cursor(const ExactModel& model) : model_(&model) {}
+        State state(double t) {
+            const std::vector<Segment>& segments = model_->segments_;
+            if (!(t >= segments[segment_].t0) && (segment_ > 0 || t != t)) {
+                segment_ = model_->segment_of(t);  // earlier than the last time, or NaN
+            } else {
+                while (segment_ + 1 < segments.size() && segments[segment_ + 1].t0 <= t) ++segment_;
+            }
+            return model_->evaluate(segment_, t, hop_);
+        }
+        std::size_t segment() const { return segment_; }
+
+    private:
+        const ExactModel* model_;
+        std::size_t segment_ = 0;
+        TailHop hop_;
+    };
 
 private:
     // Uniform motion law from t0 until the next segment: the parabola with
@@ -219,11 +254,14 @@ private:
     void place(Motion& m, int axis, int anchor, double offset) const;
     void move(Motion& m, int axis, double delta) const;
     Vec3 position(const Motion& m) const;
-    State evaluate(std::size_t segment, double t) const;
+    // The segment that holds t: the last to start by t (0 before the first).
+    std::size_t segment_of(double t) const;
+    State evaluate(std::size_t segment, double t, TailHop& hop) const;
     // Whether evaluate(segment, t') gives the same position and velocity for
     // every t' >= t.
     bool still_from(std::size_t segment, double t) const;
-    State tail_state(double t) const;
+    State tail_state(double t, TailHop& hop) const;
+    TailHop tail_hop(double tau, double alpha_k_estimate) const;
     void clamp_into_room(Vec3& p) const;
 
     int dim_;

@@ -21,16 +21,6 @@ std::int64_t expected_states(const Scenario& s) {
     return static_cast<std::int64_t>(steps) + 1;
 }
 
-namespace {
-
-bool reverses(const Vec3& before, const Vec3& after) {
-    for (int i = 0; i < 3; ++i)
-        if ((before[i] > 0 && after[i] <= 0) || (before[i] < 0 && after[i] >= 0)) return true;
-    return false;
-}
-
-}  // namespace
-
 TraceDecimator::TraceDecimator(std::int64_t expected, std::size_t budget) : stride_(plot_stride(expected, budget)) {}
 
 void TraceDecimator::keep(const State& s) {
@@ -38,22 +28,8 @@ void TraceDecimator::keep(const State& s) {
     trace_.p.push_back(s.p);
 }
 
-void TraceDecimator::write(const State& s) {
-    const bool turning = previous_ && turning_points_ < kPlotTurningPoints && reverses(previous_->v, s.v);
-    if (turning) {
-        // The state before the reversal too: the path's corner lies between them.
-        if (!previous_kept_) keep(*previous_);
-        turning_points_ += 2;
-    }
-    const bool kept = turning || index_ % stride_ == 0;
-    if (kept) keep(s);
-    previous_ = s;
-    previous_kept_ = kept;
-    ++index_;
-}
-
 PlotTrace TraceDecimator::finish() {
-    if (previous_ && !previous_kept_) keep(*previous_);
+    if (started_ && !previous_kept_) keep(previous_);
     previous_kept_ = true;
     return trace_;
 }

@@ -35,15 +35,36 @@ class TraceDecimator final : public StateSink {
 public:
     // expected_states: how many states the run will stream (sets the stride).
     explicit TraceDecimator(std::int64_t expected_states, std::size_t budget = kPlotPoints);
-    void write(const State& s) override;
+    // Inline, every state: a countdown rather than a division for the
+    // stride, and one branch-free screen for a reversal.
+    void write(const State& s) override {
+        bool turning = false;
+        if (started_) {
+            for (int i = 0; i < 3; ++i)
+                turning |= ((previous_.v[i] > 0) & (s.v[i] <= 0)) | ((previous_.v[i] < 0) & (s.v[i] >= 0));
+            turning &= turning_points_ < kPlotTurningPoints;
+        }
+        if (turning) {
+            // The state before the reversal too: the path's corner lies between them.
+            if (!previous_kept_) keep(previous_);
+            turning_points_ += 2;
+        }
+        const bool on_stride = until_kept_-- == 0;
+        if (on_stride) until_kept_ = stride_ - 1;
+        const bool kept = turning || on_stride;
+        if (kept) keep(s);
+        previous_ = s;
+        previous_kept_ = kept;
+        started_ = true;
+    }
     PlotTrace finish();
 
 private:
     void keep(const State& s);
-    std::int64_t stride_, index_ = 0;
+    std::int64_t stride_, until_kept_ = 0;
     std::size_t turning_points_ = 0;
-    std::optional<State> previous_;
-    bool previous_kept_ = false;
+    State previous_;
+    bool started_ = false, previous_kept_ = false;
     PlotTrace trace_;
 };
 

@@ -4,7 +4,6 @@
 #include "scenarios/scenario.h"
 
 #include <cstdint>
-#include <initializer_list>
 #include <vector>
 
 namespace bouncecheck {
@@ -79,26 +78,6 @@ public:
     virtual void write_periodic(const PeriodicTail& tail) {
         for (PeriodicTail::Cursor at(tail); at.left() > 0;) write(at.next());
     }
-};
-
-// Passes every state to each of a few sinks (null ones are left out).
-class TeeSink final : public StateSink {
-public:
-    TeeSink(std::initializer_list<StateSink*> sinks) {
-        for (StateSink* s : sinks)
-            if (s && count_ < kMaxSinks) sinks_[count_++] = s;
-    }
-    void write(const State& s) override {
-        for (int i = 0; i < count_; ++i) sinks_[i]->write(s);
-    }
-    void write_periodic(const PeriodicTail& tail) override {
-        for (int i = 0; i < count_; ++i) sinks_[i]->write_periodic(tail);
-    }
-
-private:
-    static constexpr int kMaxSinks = 4;
-    StateSink* sinks_[kMaxSinks] = {};
-    int count_ = 0;
 };
 
 // A highest point of the vertical coordinate between floor contacts.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -249,6 +250,59 @@ TEST(ExactModelBounds, StaysInsideRoomAtRandomTimes) {
         for (int n = 0; n < 100'000; ++n) expect_inside(s, model.state_at(time(rng)));
         for (const WallContact& c : model.contacts()) expect_inside(s, model.state_at(c.t));
     }
+}
+
+bool same_bits(const State& a, const State& b) {
+    return std::memcmp(&a.t, &b.t, sizeof(double)) == 0 && std::memcmp(a.p.data(), b.p.data(), 3 * sizeof(double)) == 0 &&
+           std::memcmp(a.v.data(), b.v.data(), 3 * sizeof(double)) == 0;
+}
+
+// The cursor a compared stream walks exact with gives state_at's bits at
+// every sample: through a summed Zeno tail (where it keeps the current
+// hop), corners, tangential gravity, fine steps that land many samples in
+// one hop, and times that step back or repeat (it searches again).
+TEST(ExactModelCursor, GivesStateAtsBitsAtEveryTime) {
+    std::vector<Scenario> scenarios{seed_3d(), seed_2d(), drop(0.45, 9.81, 0.8, 0.9, {0.01, 0, 0})};
+    Scenario fine = seed_3d();
+    fine.dt = 1e-4;
+    scenarios.push_back(fine);
+    std::mt19937_64 rng(99);
+    std::uniform_real_distribution<double> unit(0, 1);
+    for (int n = 0; n < 30; ++n) {
+        const int dim = n % 2 ? 2 : 3;
+        Vec3 room(0.5 + unit(rng), 0.5 + unit(rng), dim == 3 ? 0.5 + unit(rng) : 0.0);
+        Vec3 p = Vec3::Zero(), v = Vec3::Zero(), g = Vec3::Zero();
+        for (int i = 0; i < dim; ++i) {
+            p[i] = 0.1 + unit(rng) * (room[i] - 0.2);
+            v[i] = 2 * unit(rng) - 1;
+            g[i] = n % 3 ? 0.0 : 2 * unit(rng) - 1;
+        }
+        g[dim - 1] = -1 - 9 * unit(rng);
+        scenarios.push_back(make_scenario(dim, room, 0.05, p, v, g, 0.5 + 0.5 * unit(rng), unit(rng), 20, 1e-3));
+    }
+    int tails = 0;
+    for (const Scenario& s : scenarios) {
+        const ExactModel model(s);
+        tails += model.summed_tail_contacts() != 0;
+        ExactModel::Cursor cursor(model);
+        std::int64_t samples = 0, differ = 0;
+        model.sample_document_clock([&](const State& st) {
+            ++samples;
+            differ += !same_bits(st, model.state_at(st.t));
+            differ += !same_bits(cursor.state(st.t), st);
+        });
+        EXPECT_EQ(differ, 0) << s.name << " dim " << s.dim << " of " << samples << " samples";
+        // Back and forth: every time its own answer.
+        ExactModel::Cursor jumping(model);
+        std::uniform_real_distribution<double> time(-0.1, s.duration + 0.1);
+        for (int k = 0; k < 20'000; ++k) {
+            const double t = time(rng);
+            ASSERT_TRUE(same_bits(jumping.state(t), model.state_at(t))) << "t = " << t;
+        }
+        const double nan = std::nan("");
+        EXPECT_TRUE(same_bits(jumping.state(nan), model.state_at(nan)));
+    }
+    EXPECT_GE(tails, 3);  // the tail's hop cache is exercised
 }
 
 TEST(ExactModelBounds, PositionIsContinuousThroughContacts) {

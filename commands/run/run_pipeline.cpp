@@ -19,14 +19,6 @@ namespace bouncecheck {
 
 namespace {
 
-// What one simulator's run produces before it is judged: the comparison's
-// verdicts follow from it and the baselines (see run_scenario).
-struct Outcome {
-    SimulatorSummary summary;
-    TrajectoryDivergence vs_reference, vs_exact;
-    std::optional<ScenarioRun::SimulatorPlot> plot;
-};
-
 // ------------------------------------------------ the outcome across a worker's channel (commands/wire.h)
 
 using nlohmann::json;
@@ -53,7 +45,7 @@ std::vector<Vec3> decode_points(const json& j) {
     return out;
 }
 
-std::string encode(const Outcome& o) {
+std::string encode(const ComparedRun& o) {
     const SimulatorSummary& r = o.summary;
     json apexes = json::array(), contacts = json::array(), settings = json::array();
     for (const Apex& a : r.apexes) apexes.push_back({a.t, a.height});
@@ -77,9 +69,9 @@ std::string encode(const Outcome& o) {
     return wire::to_bytes(j);
 }
 
-Outcome decode(const std::string& bytes) {
+ComparedRun decode(const std::string& bytes) {
     const json j = wire::from_bytes(bytes);
-    Outcome o;
+    ComparedRun o;
     SimulatorSummary& r = o.summary;
     r.simulator = j["simulator"].get<std::string>();
     r.status = static_cast<RunStatus>(j["status"].get<int>());
@@ -120,19 +112,83 @@ Outcome decode(const std::string& bytes) {
     return o;
 }
 
+// The engines (Simulator::third_party) in worker processes, when the
+// request isolates them: a crash or a hang there is that engine's failure
+// only. Their outcomes in the simulators' order; nothing where a simulator
+// runs here (not an engine, not isolated, or it cannot run the scenario).
+std::vector<std::optional<ComparedRun>> run_isolated(const Scenario& s, const RunRequest& request,
+                                                 const Baselines& base) {
+    const std::vector<const Simulator*>& sims = request.simulators;
+    std::vector<std::optional<ComparedRun>> outcomes(sims.size());
+    std::vector<std::size_t> pooled;
+    for (std::size_t i = 0; i < sims.size(); ++i)
+        if (request.isolate && sims[i]->third_party() && !sims[i]->cannot_run(s)) pooled.push_back(i);
+    PairSchedule schedule;
+    schedule.jobs = request.jobs;
+    schedule.deadline_seconds = request.budget_seconds;
+    schedule.cost = [&](std::size_t k, std::size_t) { return sims[pooled[k]]->typical_ns_per_step(); };
+    schedule.run = [&](std::size_t k, std::size_t) { return encode(run_compared(*sims[pooled[k]], s, request, base)); };
+    schedule.finished = [&](std::size_t k, std::size_t, const PairOutcome& ended, std::size_t) {
+        ComparedRun o;
+        std::string failure;
+        if (ended.kind != PairOutcome::Kind::ok) {
+            failure = fmt::format("{}: {}", ended.kind == PairOutcome::Kind::hung ? "hung" : "crashed", ended.failure);
+        } else {
+            try {
+                o = decode(ended.payload);
+            } catch (const std::exception& e) {
+                failure = fmt::format("its worker process sent an unreadable result: {}", e.what());
+            }
+        }
+        if (!failure.empty()) {
+            o = ComparedRun{};
+            o.summary.simulator = std::string(sims[pooled[k]]->name());
+            o.summary.status = RunStatus::failed;
+            o.summary.reason = std::move(failure);
+            if (request.plots) o.plot.emplace();
+        }
+        outcomes[pooled[k]] = std::move(o);
+    };
+    run_pairs_in_parallel(pooled.size(), 1, schedule);
+    return outcomes;
+}
+
+}  // namespace
+
 // ------------------------------------------------ one simulator
 
-struct Baselines {
-    const ExactModel& exact;
-    const SimulatorSummary& reference;
-    const SimulatorSummary& exact_summary;
-    const PlotTrace& exact_path;
+Baselines::Baselines(const Scenario& s, bool plots)
+    : exact(s),
+      reference(record_run(*make_reference_simulator(), s)),
+      exact_summary(record_run(*make_exact_simulator(), s)) {
+    if (plots) exact_path = exact_plot_trace(exact, s);
+}
+
+namespace {
+
+// Every state to the comparison, and to the plot and the trajectory file
+// when asked: direct calls to final classes, once per state.
+struct ComparedSink final : StateSink {
+    TrajectoryComparer& comparer;
+    TraceDecimator* trace;
+    TrajectoryCsv* csv;
+    ComparedSink(TrajectoryComparer& c, TraceDecimator* t, TrajectoryCsv* f) : comparer(c), trace(t), csv(f) {}
+    void write(const State& s) override {
+        comparer.write(s);
+        if (trace) trace->write(s);
+        if (csv) csv->write(s);
+    }
+    void write_periodic(const PeriodicTail& tail) override {
+        comparer.write_periodic(tail);
+        if (trace) trace->write_periodic(tail);
+        if (csv) csv->write_periodic(tail);
+    }
 };
 
-// Runs `sim` with its stream compared to the baselines as it goes, writing
-// its trajectory if asked; an exception is a failed run.
-Outcome run_one(const Simulator& sim, const Scenario& s, const RunRequest& request, const Baselines& base) {
-    Outcome o;
+}  // namespace
+
+ComparedRun run_compared(const Simulator& sim, const Scenario& s, const RunRequest& request, const Baselines& base) {
+    ComparedRun o;
     o.summary.simulator = std::string(sim.name());
     TrajectoryComparer comparer(s, base.exact, base.reference.rest_time, base.exact_summary.rest_time);
     std::optional<TraceDecimator> trace;
@@ -151,7 +207,7 @@ Outcome run_one(const Simulator& sim, const Scenario& s, const RunRequest& reque
             std::filesystem::create_directories(request.out_dir / s.name);
             csv.emplace(request.out_dir / relative, s.dim);
         }
-        TeeSink sink{csv ? &*csv : nullptr, &comparer, trace ? &*trace : nullptr};
+        ComparedSink sink(comparer, trace ? &*trace : nullptr, csv ? &*csv : nullptr);
         o.summary = record_run(sim, s, &sink);
         if (csv) {
             csv->commit();
@@ -166,70 +222,25 @@ Outcome run_one(const Simulator& sim, const Scenario& s, const RunRequest& reque
     if (request.plots) {
         ScenarioRun::SimulatorPlot plot;
         plot.path = trace ? trace->finish() : base.exact_path;
-        plot.divergence_t = comparer.reference_series()->times();
-        plot.divergence = comparer.reference_series()->values();
-        plot.error_t = comparer.exact_series()->times();
-        plot.error = comparer.exact_series()->values();
+        DistanceSeries divergence = *comparer.reference_series(), error = *comparer.exact_series();
+        plot.divergence_t = std::move(divergence.t);
+        plot.divergence = std::move(divergence.distance);
+        plot.error_t = std::move(error.t);
+        plot.error = std::move(error.distance);
         o.plot = std::move(plot);
     }
     return o;
 }
 
-// The engines (Simulator::third_party) in worker processes, when the
-// request isolates them: a crash or a hang there is that engine's failure
-// only. Their outcomes in the simulators' order; nothing where a simulator
-// runs here (not an engine, not isolated, or it cannot run the scenario).
-std::vector<std::optional<Outcome>> run_isolated(const Scenario& s, const RunRequest& request,
-                                                 const Baselines& base) {
-    const std::vector<const Simulator*>& sims = request.simulators;
-    std::vector<std::optional<Outcome>> outcomes(sims.size());
-    std::vector<std::size_t> pooled;
-    for (std::size_t i = 0; i < sims.size(); ++i)
-        if (request.isolate && sims[i]->third_party() && !sims[i]->cannot_run(s)) pooled.push_back(i);
-    PairSchedule schedule;
-    schedule.jobs = request.jobs;
-    schedule.deadline_seconds = request.budget_seconds;
-    schedule.cost = [&](std::size_t k, std::size_t) { return sims[pooled[k]]->typical_ns_per_step(); };
-    schedule.run = [&](std::size_t k, std::size_t) { return encode(run_one(*sims[pooled[k]], s, request, base)); };
-    schedule.finished = [&](std::size_t k, std::size_t, const PairOutcome& ended, std::size_t) {
-        Outcome o;
-        std::string failure;
-        if (ended.kind != PairOutcome::Kind::ok) {
-            failure = fmt::format("{}: {}", ended.kind == PairOutcome::Kind::hung ? "hung" : "crashed", ended.failure);
-        } else {
-            try {
-                o = decode(ended.payload);
-            } catch (const std::exception& e) {
-                failure = fmt::format("its worker process sent an unreadable result: {}", e.what());
-            }
-        }
-        if (!failure.empty()) {
-            o = Outcome{};
-            o.summary.simulator = std::string(sims[pooled[k]]->name());
-            o.summary.status = RunStatus::failed;
-            o.summary.reason = std::move(failure);
-            if (request.plots) o.plot.emplace();
-        }
-        outcomes[pooled[k]] = std::move(o);
-    };
-    run_pairs_in_parallel(pooled.size(), 1, schedule);
-    return outcomes;
-}
-
-}  // namespace
-
 ScenarioRun run_scenario(const Scenario& s, const RunRequest& request) {
     ScenarioRun run;
     run.scenario = s;
-    const ExactModel exact(s);
-    const SimulatorSummary reference = record_run(*make_reference_simulator(), s);
-    const SimulatorSummary exact_summary = record_run(*make_exact_simulator(), s);
+    const Baselines base(s, request.plots);
     if (request.plots) {
-        run.exact_path = exact_plot_trace(exact, s);
-        run.exact_apexes = exact_summary.apexes;
+        run.exact_path = base.exact_path;
+        run.exact_apexes = base.exact_summary.apexes;
     }
-    const Baselines base{exact, reference, exact_summary, run.exact_path};
-    std::vector<std::optional<Outcome>> isolated = run_isolated(s, request, base);
+    std::vector<std::optional<ComparedRun>> isolated = run_isolated(s, request, base);
 
     for (std::size_t i = 0; i < request.simulators.size(); ++i) {
         const Simulator* sim = request.simulators[i];
@@ -244,14 +255,14 @@ ScenarioRun run_scenario(const Scenario& s, const RunRequest& request) {
             if (request.plots) run.plots.emplace_back();
             continue;
         }
-        Outcome o = isolated[i] ? std::move(*isolated[i]) : run_one(*sim, s, request, base);
+        ComparedRun o = isolated[i] ? std::move(*isolated[i]) : run_compared(*sim, s, request, base);
         o.summary.origin = std::string(sim->origin());
         const ThresholdSet limits = limits_for(s, o.summary.simulator, request.threshold_overrides);
         const int bounce_count = limits.bounce_count.value_or(kDefaultBounceCount);
         Comparison c;
-        c.vs_reference = compare_bounces(o.summary, reference, bounce_count, s);
+        c.vs_reference = compare_bounces(o.summary, base.reference, bounce_count, s);
         c.vs_reference.trajectory = o.vs_reference;
-        c.vs_exact = compare_bounces(o.summary, exact_summary, bounce_count, s);
+        c.vs_exact = compare_bounces(o.summary, base.exact_summary, bounce_count, s);
         c.vs_exact.trajectory = o.vs_exact;
         c.damping = check_damping(o.summary, s, limits);
         c.thresholds = check_thresholds(c, limits, s);

@@ -2,11 +2,14 @@
 // and with exact: what `bouncecheck run` does per scenario.
 #pragma once
 
+#include "comparison/comparison.h"
+#include "exact/exact_model.h"
 #include "reports/run_report.h"
 #include "scenarios/scenario.h"
 #include "simulators/simulator.h"
 
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 namespace bouncecheck {
@@ -26,6 +29,26 @@ struct RunRequest {
     // killed with its worker and fails as hung. 0: no limit.
     double budget_seconds = 0;
 };
+
+// What every simulator of a scenario is compared with, run once per scenario.
+struct Baselines {
+    Baselines(const Scenario& s, bool plots);
+    ExactModel exact;
+    SimulatorSummary reference, exact_summary;
+    PlotTrace exact_path;  // exact's path with its contacts at their instants (plots only)
+};
+
+// One simulator's run, recorded and compared with the baselines as it
+// streams: what the comparison's verdicts are made from (run_scenario).
+struct ComparedRun {
+    SimulatorSummary summary;
+    TrajectoryDivergence vs_reference, vs_exact;
+    std::optional<ScenarioRun::SimulatorPlot> plot;  // with request.plots
+};
+// Writes the trajectory if the request asks; an exception is a failed run.
+// Public for bench/bench_comparison.cpp, which times it against the
+// simulator's unrecorded run.
+ComparedRun run_compared(const Simulator& sim, const Scenario& s, const RunRequest& request, const Baselines& base);
 
 // Runs the baselines (reference and exact) first, then each selected
 // simulator with its stream compared as it runs. A simulator that throws is
