@@ -12,6 +12,7 @@
 // (bench/README.md). Scenarios: the bundled ones, and the seed at
 // dt = 1e-3 over 300 s, damped (`long`) and with alpha = beta = 1
 // (`elastic`): 300,001 samples, where the per-sample cost dominates.
+#include "bench/paired_timing.h"
 #include "commands/run/run_pipeline.h"
 #include "registry/registry.h"
 #include "scenarios/loader.h"
@@ -19,7 +20,6 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
-#include <chrono>
 #include <map>
 #include <cstdint>
 #include <memory>
@@ -42,57 +42,34 @@ Scenario lengthened(Scenario s, const std::string& name, bool elastic) {
     return s;
 }
 
-double median(std::vector<double> v) {
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    return v[v.size() / 2];
-}
-
-// Every iteration times one unrecorded and one compared run back to back,
-// in alternating order; `overhead_pct` is the median of 100 (compared /
-// unrecorded - 1) over the iterations, so load that drifts over seconds
-// moves both runs of a pair alike and cancels.
+// Both side by side (bench/paired_timing.h): `overhead_pct` is the median of
+// 100 (compared / unrecorded - 1) over the iterations.
 void paired(benchmark::State& state, const Simulator& sim, const Scenario& s, const Baselines& base) {
     RunRequest request;
     request.plots = true;
-    using Clock = std::chrono::steady_clock;
-    auto seconds = [](auto&& f) {
-        const auto start = Clock::now();
-        f();
-        return std::chrono::duration<double>(Clock::now() - start).count();
-    };
+    std::int64_t steps = 1;
+    const bench::PairedSeconds t = bench::time_pairs(
+        state,
+        [&] {
+            const UnrecordedRun run = sim.run_unrecorded(s);
+            if (run.status != RunStatus::ok) state.SkipWithError(run.reason.c_str());
+            steps = std::max<std::int64_t>(run.steps, 1);
+            benchmark::DoNotOptimize(run.final_state);
+        },
+        [&] {
+            const ComparedRun run = run_compared(sim, s, request, base);
+            if (run.summary.status != RunStatus::ok) state.SkipWithError(run.summary.reason.c_str());
+            benchmark::DoNotOptimize(run.vs_exact.rms);
+        });
     std::vector<double> ratios, unrecorded_ns, compared_ns;
-    for (auto _ : state) {
-        double unrecorded_s = 0, compared_s = 0;
-        std::int64_t steps = 0;
-        auto time_unrecorded = [&] {
-            unrecorded_s = seconds([&] {
-                const UnrecordedRun run = sim.run_unrecorded(s);
-                if (run.status != RunStatus::ok) state.SkipWithError(run.reason.c_str());
-                steps = run.steps;
-                benchmark::DoNotOptimize(run.final_state);
-            });
-        };
-        auto time_compared = [&] {
-            compared_s = seconds([&] {
-                const ComparedRun run = run_compared(sim, s, request, base);
-                if (run.summary.status != RunStatus::ok) state.SkipWithError(run.summary.reason.c_str());
-                benchmark::DoNotOptimize(run.vs_exact.rms);
-            });
-        };
-        if (ratios.size() % 2 == 0) {
-            time_unrecorded();
-            time_compared();
-        } else {
-            time_compared();
-            time_unrecorded();
-        }
-        ratios.push_back(compared_s / unrecorded_s);
-        unrecorded_ns.push_back(1e9 * unrecorded_s / static_cast<double>(std::max<std::int64_t>(steps, 1)));
-        compared_ns.push_back(1e9 * compared_s / static_cast<double>(std::max<std::int64_t>(steps, 1)));
+    for (std::size_t i = 0; i < t.first.size(); ++i) {
+        ratios.push_back(t.second[i] / t.first[i]);
+        unrecorded_ns.push_back(1e9 * t.first[i] / static_cast<double>(steps));
+        compared_ns.push_back(1e9 * t.second[i] / static_cast<double>(steps));
     }
-    state.counters["overhead_pct"] = 100 * (median(ratios) - 1);
-    state.counters["unrecorded_ns"] = median(unrecorded_ns);
-    state.counters["compared_ns"] = median(compared_ns);
+    state.counters["overhead_pct"] = 100 * (bench::median(ratios) - 1);
+    state.counters["unrecorded_ns"] = bench::median(unrecorded_ns);
+    state.counters["compared_ns"] = bench::median(compared_ns);
     state.counters["pairs"] = static_cast<double>(ratios.size());
 }
 
@@ -138,14 +115,13 @@ private:
 void harness(benchmark::State& state, const Replay& replay, const Scenario& s, const Baselines& base) {
     RunRequest request;
     request.plots = true;
+    const bench::PairedSeconds t = bench::time_pairs(
+        state, [&] { benchmark::DoNotOptimize(replay.run_unrecorded(s).steps); },
+        [&] { benchmark::DoNotOptimize(run_compared(replay, s, request, base).vs_exact.rms); });
     std::vector<double> added_ns;
-    for (auto _ : state) {
-        const double unrecorded_s = timed_seconds([&] { benchmark::DoNotOptimize(replay.run_unrecorded(s).steps); });
-        const double compared_s =
-            timed_seconds([&] { benchmark::DoNotOptimize(run_compared(replay, s, request, base).vs_exact.rms); });
-        added_ns.push_back(1e9 * (compared_s - unrecorded_s) / static_cast<double>(replay.samples()));
-    }
-    state.counters["added_ns"] = median(added_ns);
+    for (std::size_t i = 0; i < t.first.size(); ++i)
+        added_ns.push_back(1e9 * (t.second[i] - t.first[i]) / static_cast<double>(replay.samples()));
+    state.counters["added_ns"] = bench::median(added_ns);
 }
 
 struct Case {

@@ -10,6 +10,7 @@
 //
 // Target: EngineRun within 5% of EngineBare per engine; EnginePaired_<engine>
 // measures it side by side as `overhead_pct` (bench/README.md).
+#include "bench/paired_timing.h"
 #include "engines/engine.h"
 #include "metrics/summary.h"
 #include "scenarios/loader.h"
@@ -34,7 +35,6 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -80,41 +80,20 @@ void adapter(benchmark::State& state, const Scenario& s, const Simulator& sim) {
                                                        benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
-// Both side by side: every iteration times one bare run and one adapter run
-// back to back, in alternating order, and `overhead_pct` is the median over
-// the iterations of 100 (adapter / bare - 1). Load that drifts over seconds
-// moves both runs of a pair alike and cancels in the ratio, which separate
-// EngineBare and EngineRun medians cannot do on a shared machine.
+// Both side by side (bench/paired_timing.h): `overhead_pct` is the median
+// over the iterations of 100 (adapter / bare - 1).
 void paired(benchmark::State& state, const Scenario& s, const EngineSimulator& sim) {
     const std::int64_t steps = document_step_count(s.dt, s.duration);
-    using Clock = std::chrono::steady_clock;
-    auto seconds = [](auto&& f) {
-        const auto start = Clock::now();
-        f();
-        return std::chrono::duration<double>(Clock::now() - start).count();
-    };
+    const bench::PairedSeconds t = bench::time_pairs(
+        state, [&] { benchmark::DoNotOptimize(run_bare(s, sim, steps)); },
+        [&] {
+            const SimulatorSummary summary = record_run(sim, s);
+            if (summary.status != RunStatus::ok) state.SkipWithError(summary.reason.c_str());
+            benchmark::DoNotOptimize(summary.final_state);
+        });
     std::vector<double> ratios;
-    for (auto _ : state) {
-        double bare_s = 0, adapter_s = 0;
-        auto time_bare = [&] { bare_s = seconds([&] { benchmark::DoNotOptimize(run_bare(s, sim, steps)); }); };
-        auto time_adapter = [&] {
-            adapter_s = seconds([&] {
-                const SimulatorSummary summary = record_run(sim, s);
-                if (summary.status != RunStatus::ok) state.SkipWithError(summary.reason.c_str());
-                benchmark::DoNotOptimize(summary.final_state);
-            });
-        };
-        if (ratios.size() % 2 == 0) {
-            time_bare();
-            time_adapter();
-        } else {
-            time_adapter();
-            time_bare();
-        }
-        ratios.push_back(adapter_s / bare_s);
-    }
-    std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
-    state.counters["overhead_pct"] = 100 * (ratios[ratios.size() / 2] - 1);
+    for (std::size_t i = 0; i < t.first.size(); ++i) ratios.push_back(t.second[i] / t.first[i]);
+    state.counters["overhead_pct"] = 100 * (bench::median(ratios) - 1);
     state.counters["pairs"] = static_cast<double>(ratios.size());
 }
 

@@ -39,6 +39,22 @@ Scenario drop(double drop_height, double g, double alpha, double beta = 0.99, Ve
     return make_scenario(3, {1, 1, 1}, 0.05, {0.5, 0.5, 0.05 + drop_height}, velocity, {0, 0, -g}, alpha, beta, 20);
 }
 
+// A random room, ball and gravity (some with a tangential component), alpha
+// in [alpha_low, 1), beta in [0, 1): scenario n of a sequence.
+Scenario random_room(std::mt19937_64& rng, int n, double alpha_low, double dt = 0.03) {
+    std::uniform_real_distribution<double> unit(0, 1);
+    const int dim = n % 2 ? 2 : 3;
+    Vec3 room(0.5 + unit(rng), 0.5 + unit(rng), dim == 3 ? 0.5 + unit(rng) : 0.0);
+    Vec3 p = Vec3::Zero(), v = Vec3::Zero(), g = Vec3::Zero();
+    for (int i = 0; i < dim; ++i) {
+        p[i] = 0.1 + unit(rng) * (room[i] - 0.2);
+        v[i] = 2 * unit(rng) - 1;
+        g[i] = n % 3 ? 0.0 : 2 * unit(rng) - 1;  // some with tangential gravity
+    }
+    g[dim - 1] = -1 - 9 * unit(rng);
+    return make_scenario(dim, room, 0.05, p, v, g, alpha_low + (1 - alpha_low) * unit(rng), unit(rng), 20, dt);
+}
+
 double energy(const Scenario& s, const State& st) { return 0.5 * st.v.squaredNorm() - s.gravity.dot(st.p); }
 
 void expect_inside(const Scenario& s, const State& st) {
@@ -267,19 +283,7 @@ TEST(ExactModelCursor, GivesStateAtsBitsAtEveryTime) {
     fine.dt = 1e-4;
     scenarios.push_back(fine);
     std::mt19937_64 rng(99);
-    std::uniform_real_distribution<double> unit(0, 1);
-    for (int n = 0; n < 30; ++n) {
-        const int dim = n % 2 ? 2 : 3;
-        Vec3 room(0.5 + unit(rng), 0.5 + unit(rng), dim == 3 ? 0.5 + unit(rng) : 0.0);
-        Vec3 p = Vec3::Zero(), v = Vec3::Zero(), g = Vec3::Zero();
-        for (int i = 0; i < dim; ++i) {
-            p[i] = 0.1 + unit(rng) * (room[i] - 0.2);
-            v[i] = 2 * unit(rng) - 1;
-            g[i] = n % 3 ? 0.0 : 2 * unit(rng) - 1;
-        }
-        g[dim - 1] = -1 - 9 * unit(rng);
-        scenarios.push_back(make_scenario(dim, room, 0.05, p, v, g, 0.5 + 0.5 * unit(rng), unit(rng), 20, 1e-3));
-    }
+    for (int n = 0; n < 30; ++n) scenarios.push_back(random_room(rng, n, 0.5, 1e-3));
     int tails = 0;
     for (const Scenario& s : scenarios) {
         const ExactModel model(s);
@@ -321,20 +325,8 @@ TEST(ExactModelBounds, PositionIsContinuousThroughContacts) {
 
 TEST(ExactModelEnergy, ConstantBetweenContactsNonIncreasingAcross) {
     std::mt19937_64 rng(7);
-    std::uniform_real_distribution<double> unit(0, 1);
     std::vector<Scenario> scenarios{seed_3d(), seed_2d()};
-    for (int n = 0; n < 20; ++n) {
-        const int dim = n % 2 ? 2 : 3;
-        Vec3 room(0.5 + unit(rng), 0.5 + unit(rng), dim == 3 ? 0.5 + unit(rng) : 0.0);
-        Vec3 p = Vec3::Zero(), v = Vec3::Zero(), g = Vec3::Zero();
-        for (int i = 0; i < dim; ++i) {
-            p[i] = 0.1 + unit(rng) * (room[i] - 0.2);
-            v[i] = 2 * unit(rng) - 1;
-            g[i] = n % 3 ? 0.0 : 2 * unit(rng) - 1;  // some with tangential gravity
-        }
-        g[dim - 1] = -1 - 9 * unit(rng);
-        scenarios.push_back(make_scenario(dim, room, 0.05, p, v, g, unit(rng), unit(rng), 20));
-    }
+    for (int n = 0; n < 20; ++n) scenarios.push_back(random_room(rng, n, 0.0));
     for (const Scenario& s : scenarios) {
         const ExactModel model(s);
         const auto& contacts = model.contacts();
