@@ -108,19 +108,62 @@ struct TrajectoryComparer::LockstepReference {
     }
 };
 
+// The shared baselines (TrajectoryComparer::share_baselines).
+class BaselineTrack {
+public:
+    std::vector<Vec3> reference, exact;  // at sample n
+    // The lockstep reference after the last tracked sample, for a comparer
+    // whose stream goes on.
+    std::unique_ptr<TrajectoryComparer::LockstepReference> after;
+};
+
+std::shared_ptr<const BaselineTrack> TrajectoryComparer::share_baselines(const Scenario& s, const ExactModel& exact,
+                                                                         std::int64_t max_samples) {
+    auto track = std::make_shared<BaselineTrack>();
+    track->after = std::make_unique<LockstepReference>(s);
+    ExactModel::Cursor at(exact);
+    for (DocumentClock clock(s.dt, s.duration); static_cast<std::int64_t>(track->reference.size()) < max_samples;
+         clock.advance()) {
+        track->reference.push_back(track->after->with([](auto& r) { return r.next_position(); }));
+        track->exact.push_back(at.state(clock.t()).p);
+        if (!clock.running()) break;
+    }
+    return track;
+}
+
 TrajectoryComparer::TrajectoryComparer(const Scenario& s, const ExactModel& exact,
-                                       std::optional<double> reference_rest, std::optional<double> exact_rest)
+                                       std::optional<double> reference_rest, std::optional<double> exact_rest,
+                                       std::shared_ptr<const BaselineTrack> track)
     : exact_model_(exact),
       exact_(exact),
-      reference_(std::make_unique<LockstepReference>(s)),
+      track_(std::move(track)),
+      tracked_(track_ ? static_cast<std::int64_t>(track_->reference.size()) : 0),
+      clock_(s.dt, s.duration),
+      reference_(track_ ? nullptr : std::make_unique<LockstepReference>(s)),
       vs_reference_(std::make_unique<Stats>(reference_rest)),
       vs_exact_(std::make_unique<Stats>(exact_rest)) {}
 
 TrajectoryComparer::~TrajectoryComparer() = default;
 
+TrajectoryComparer::LockstepReference& TrajectoryComparer::reference() {
+    if (!reference_) reference_ = std::make_unique<LockstepReference>(*track_->after);
+    return *reference_;
+}
+
 void TrajectoryComparer::write(const State& s) {
-    const double to_reference = reference_->with([&](auto& r) { return (s.p - r.next_position()).squaredNorm(); });
-    const double to_exact = (s.p - exact_.state(s.t).p).squaredNorm();
+    double to_reference = 0, to_exact = 0;
+    if (sample_ < tracked_) {
+        // Sample n is compared with the reference's sample n; exact is read
+        // where the stream's time is the clock's (an imported stream's may not be).
+        const auto n = static_cast<std::size_t>(sample_);
+        to_reference = (s.p - track_->reference[n]).squaredNorm();
+        to_exact = (s.p - (s.t == clock_.t() ? track_->exact[n] : exact_.state(s.t).p)).squaredNorm();
+        clock_.advance();
+    } else {
+        to_reference = reference().with([&](auto& r) { return (s.p - r.next_position()).squaredNorm(); });
+        to_exact = (s.p - exact_.state(s.t).p).squaredNorm();
+    }
+    ++sample_;
     add(s.t, to_reference, to_exact);
 }
 
@@ -139,11 +182,13 @@ void TrajectoryComparer::write_periodic(const PeriodicTail& tail) {
     // The common period of the tail and the reference's cycle, if both
     // baselines repeat from the next sample on and it is not too long.
     auto common_period = [&]() -> std::int64_t {
-        const std::int64_t reference_period = reference_->with([](auto& r) { return r.replay_period(); });
+        const std::int64_t reference_period = reference().with([](auto& r) { return r.replay_period(); });
         if (reference_period == 0 || !exact_model_.still_after(at.next_t())) return 0;
         const std::int64_t common = std::lcm(period, reference_period);
         return common <= kMaxReplayedPeriod ? common : 0;
     };
+    while (at.left() > 0 && sample_ < tracked_) write(at.next());
+    if (at.left() == 0) return;
     std::int64_t common = 0;
     while (at.left() > 0 && (common = common_period()) == 0) write(at.next());
     if (at.left() == 0) return;
@@ -151,10 +196,11 @@ void TrajectoryComparer::write_periodic(const PeriodicTail& tail) {
     std::vector<double> to_reference(common), to_exact(common);
     for (std::int64_t j = 0; j < common; ++j) {
         const Vec3& p = tail.cycle[(at.phase() + j) % period].p;
-        to_reference[j] = reference_->with([&](auto& r) { return (p - r.replayed(j)).squaredNorm(); });
+        to_reference[j] = reference().with([&](auto& r) { return (p - r.replayed(j)).squaredNorm(); });
         to_exact[j] = (p - exact_p).squaredNorm();
     }
-    reference_->with([&](auto& r) { r.skip(at.left()); });
+    reference().with([&](auto& r) { r.skip(at.left()); });
+    sample_ += at.left();
     for (std::int64_t j = 0; at.left() > 0;) {
         add(at.pass(), to_reference[j], to_exact[j]);
         if (++j == common) j = 0;

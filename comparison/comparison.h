@@ -10,6 +10,7 @@
 #include "exact/exact_model.h"
 #include "metrics/summary.h"
 #include "scenarios/scenario.h"
+#include "simulators/document_clock.h"
 
 #include <cstdint>
 #include <memory>
@@ -54,13 +55,28 @@ struct DistanceSeries {
     std::vector<double> t, distance;
 };
 
+class BaselineTrack;
+
 // Compares a simulator's state stream, as it streams, with the reference
 // (stepped alongside) and with exact. Pass it as the run's StateSink.
 class TrajectoryComparer final : public StateSink {
 public:
+    // With a track (share_baselines), the baselines' first samples are read
+    // from it rather than made again: the same results, bit for bit.
     TrajectoryComparer(const Scenario& s, const ExactModel& exact, std::optional<double> reference_rest,
-                       std::optional<double> exact_rest);
+                       std::optional<double> exact_rest, std::shared_ptr<const BaselineTrack> track = nullptr);
     ~TrajectoryComparer() override;
+
+    // The reference's positions at the document clock's first samples and
+    // exact's at their times, made once per scenario for every simulator's
+    // comparer to read: each would otherwise step the reference and
+    // evaluate exact itself, the larger part of what comparing costs
+    // (bench/README.md, 6). At most `max_samples` (48 bytes each), so the
+    // memory stays flat in the run's length; past them a comparer steps on
+    // from where the track ends.
+    static constexpr std::int64_t kSharedSamples = 1 << 17;
+    static std::shared_ptr<const BaselineTrack> share_baselines(const Scenario& s, const ExactModel& exact,
+                                                                std::int64_t max_samples = kSharedSamples);
     void write(const State& s) override;
     // State by state until both baselines repeat as well (the reference at
     // its rest cycle, exact still); from there the distances repeat with the
@@ -77,13 +93,19 @@ public:
     std::optional<DistanceSeries> exact_series() const;
 
 private:
+    friend class BaselineTrack;
     struct Stats;
     struct LockstepReference;
     // One sample's squared distances (every figure is kept squared until read).
     void add(double t, double to_reference, double to_exact);
+    // Past the track: the reference as it stands after the track's samples.
+    LockstepReference& reference();
     const ExactModel& exact_model_;
     ExactModel::Cursor exact_;  // the stream's times do not decrease
-    std::unique_ptr<LockstepReference> reference_;
+    std::shared_ptr<const BaselineTrack> track_;
+    std::int64_t tracked_ = 0, sample_ = 0;  // the track's samples; the next sample's index
+    DocumentClock clock_;                    // the next sample's time on the document clock
+    std::unique_ptr<LockstepReference> reference_;  // made when first needed past the track
     std::unique_ptr<Stats> vs_reference_, vs_exact_;
     std::optional<WindowMaxSeries> reference_series_, exact_series_;  // of squared distances
 };

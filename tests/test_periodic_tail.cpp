@@ -17,6 +17,8 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -296,6 +298,62 @@ TEST(PeriodicTail, ComparisonOfATailMatchesStateByStateBitForBit) {
         expect_same_series(*tail.reference_series(), *each.reference_series());
         expect_same_series(*tail.exact_series(), *each.exact_series());
     }
+}
+
+// The baselines shared once per scenario (share_baselines) give every
+// comparison the figures it makes on its own, bit for bit: with a track that
+// ends inside the run (the comparer steps the reference on from where it
+// ends), one that covers it, one that ends inside a handed-over tail, and a
+// stream whose times are not the clock's (exact is then evaluated).
+TEST(PeriodicTail, SharedBaselinesGiveTheComparisonsOwnFiguresBitForBit) {
+    struct Case {
+        Scenario s;
+        std::int64_t track_samples;
+    };
+    std::vector<Case> cases;
+    for (const char* file : {"seed-3d.toml", "seed-2d.toml"}) {
+        for (const std::int64_t cap : {std::int64_t{1}, std::int64_t{500}, std::int64_t{1'000'000}})
+            cases.push_back({seed(file), cap});
+        Scenario long_run = seed(file);
+        long_run.duration = 45000;  // the reference hands over a tail at about 1.1e6 steps
+        cases.push_back({long_run, 1'000});
+        cases.push_back({long_run, 1'200'000});
+    }
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.s.name + ", duration " + std::to_string(c.s.duration) + ", track " +
+                     std::to_string(c.track_samples));
+        const ExactModel exact(c.s);
+        const auto track = TrajectoryComparer::share_baselines(c.s, exact, c.track_samples);
+        const std::optional<double> cut = c.s.duration * 0.5;
+        for (const Simulator* sim : {make_reference_simulator().release(), make_exact_simulator().release()}) {
+            const std::unique_ptr<const Simulator> owned(sim);
+            SCOPED_TRACE(std::string(sim->name()));
+            TrajectoryComparer shared(c.s, exact, cut, exact.rest_time(), track), own(c.s, exact, cut, exact.rest_time());
+            shared.record_series(97);
+            own.record_series(97);
+            record_run(*sim, c.s, &shared);
+            record_run(*sim, c.s, &own);
+            expect_same_divergence(shared.vs_reference(), own.vs_reference());
+            expect_same_divergence(shared.vs_exact(), own.vs_exact());
+            expect_same_series(*shared.reference_series(), *own.reference_series());
+            expect_same_series(*shared.exact_series(), *own.exact_series());
+        }
+    }
+    // Times off the clock (an imported trajectory's): exact at those times.
+    const Scenario s = seed("seed-3d.toml");
+    const ExactModel exact(s);
+    StateVector states;
+    record_run(*make_reference_simulator(), s, &states);
+    TrajectoryComparer shared(s, exact, std::nullopt, std::nullopt, TrajectoryComparer::share_baselines(s, exact)),
+        own(s, exact, std::nullopt, std::nullopt);
+    for (State st : states.states) {
+        st.t += 0.25 * s.dt;
+        shared.write(st);
+        own.write(st);
+    }
+    expect_same_divergence(shared.vs_exact(), own.vs_exact());
+    expect_same_divergence(shared.vs_reference(), own.vs_reference());
+    EXPECT_GT(own.vs_exact().max, 0.0);
 }
 
 TEST(PeriodicTail, DefaultSinkWritesEveryTailState) {

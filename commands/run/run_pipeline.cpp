@@ -159,6 +159,7 @@ std::vector<std::optional<ComparedRun>> run_isolated(const Scenario& s, const Ru
 
 Baselines::Baselines(const Scenario& s, bool plots)
     : exact(s),
+      track(TrajectoryComparer::share_baselines(s, exact)),
       reference(record_run(*make_reference_simulator(), s)),
       exact_summary(record_run(*make_exact_simulator(), s)) {
     if (plots) exact_path = exact_plot_trace(exact, s);
@@ -190,7 +191,7 @@ struct ComparedSink final : StateSink {
 ComparedRun run_compared(const Simulator& sim, const Scenario& s, const RunRequest& request, const Baselines& base) {
     ComparedRun o;
     o.summary.simulator = std::string(sim.name());
-    TrajectoryComparer comparer(s, base.exact, base.reference.rest_time, base.exact_summary.rest_time);
+    TrajectoryComparer comparer(s, base.exact, base.reference.rest_time, base.exact_summary.rest_time, base.track);
     std::optional<TraceDecimator> trace;
     const std::int64_t states = expected_states(s);
     if (request.plots) {

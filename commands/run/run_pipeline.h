@@ -9,6 +9,7 @@
 #include "simulators/simulator.h"
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -34,6 +35,7 @@ struct RunRequest {
 struct Baselines {
     Baselines(const Scenario& s, bool plots);
     ExactModel exact;
+    std::shared_ptr<const BaselineTrack> track;  // TrajectoryComparer::share_baselines
     SimulatorSummary reference, exact_summary;
     PlotTrace exact_path;  // exact's path with its contacts at their instants (plots only)
 };
