@@ -23,6 +23,12 @@ std::int64_t expected_states(const Scenario& s) {
 
 TraceDecimator::TraceDecimator(std::int64_t expected, std::size_t budget) : stride_(plot_stride(expected, budget)) {}
 
+bool TraceDecimator::reverses(const Vec3& before, const Vec3& after) {
+    for (int i = 0; i < 3; ++i)
+        if ((before[i] > 0 && after[i] <= 0) || (before[i] < 0 && after[i] >= 0)) return true;
+    return false;
+}
+
 void TraceDecimator::keep(const State& s) {
     trace_.t.push_back(s.t);
     trace_.p.push_back(s.p);

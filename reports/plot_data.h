@@ -38,12 +38,12 @@ public:
     // Inline, every state: a countdown rather than a division for the
     // stride, and one branch-free screen for a reversal.
     void write(const State& s) override {
-        bool turning = false;
-        if (started_) {
-            for (int i = 0; i < 3; ++i)
-                turning |= ((previous_.v[i] > 0) & (s.v[i] <= 0)) | ((previous_.v[i] < 0) & (s.v[i] >= 0));
-            turning &= turning_points_ < kPlotTurningPoints;
-        }
+        // A component that was nonzero and now has the other sign or is zero
+        // has a product <= 0; an underflowing product can pass the screen
+        // too, so reverses() decides (rarely asked: contacts and apexes).
+        bool screen = false;
+        for (int i = 0; i < 3; ++i) screen |= (previous_.v[i] * s.v[i] <= 0) & (previous_.v[i] != 0);
+        const bool turning = screen && started_ && turning_points_ < kPlotTurningPoints && reverses(previous_.v, s.v);
         if (turning) {
             // The state before the reversal too: the path's corner lies between them.
             if (!previous_kept_) keep(previous_);
@@ -60,6 +60,7 @@ public:
     PlotTrace finish();
 
 private:
+    static bool reverses(const Vec3& before, const Vec3& after);
     void keep(const State& s);
     std::int64_t stride_, until_kept_ = 0;
     std::size_t turning_points_ = 0;
