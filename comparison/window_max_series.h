@@ -2,7 +2,10 @@
 // number of windows, not by the run's length.
 #pragma once
 
+#include "simulators/state.h"
+
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace bouncecheck {
@@ -23,6 +26,10 @@ public:
             in_window_ = 0;
         }
     }
+    // The rest of a periodic tail: the sample `at` will make next has value
+    // cycle[0], the one after cycle[1 % size], and so on. Same result as
+    // add() for each, in O(windows x min(stride, cycle) + log) instead of O(samples).
+    void add_periodic(PeriodicTail::Cursor at, std::span<const double> cycle);
     // The values so far, the current partial window included.
     std::vector<double> times() const;
     std::vector<double> values() const;

@@ -33,7 +33,7 @@ public:
                 PeriodicTail tail;
                 tail.cycle = {last};
                 tail.contacts = {ContactMask{}};
-                tail.count = remaining_steps(*still);
+                tail.count = still->remaining_steps();
                 tail.t_before = still->t();
                 tail.dt = s.dt;
                 sink.on_periodic_tail(tail);

@@ -142,7 +142,7 @@ void StreamRecorder::on_periodic_tail(const PeriodicTail& tail) {
     // states (rest start, the open apex, the final state) is as stepped.
     const std::int64_t skipped = at.left() / period - 1;
     if (skipped > 0) {
-        for (std::int64_t i = 0; i < skipped * period; ++i) at.pass();
+        at.skip(skipped * period);
         states_ += skipped * period;
         contacts_ += skipped * cycle_contacts;
         floor_contacts_ += skipped * cycle_floor;

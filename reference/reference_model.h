@@ -216,9 +216,8 @@ public:
     const std::vector<State>& held_cycle() const { return held_cycle_; }
     const std::vector<ContactMask>& held_contacts() const { return held_contacts_; }
 
-    // The steps left before the clock ends the run. O(steps): the clock's
-    // rounding has no closed form.
-    std::int64_t remaining_steps() const { return bouncecheck::remaining_steps(clock_); }
+    // The steps left before the clock ends the run.
+    std::int64_t remaining_steps() const { return clock_.remaining_steps(); }
     double dt() const { return dt_; }
 
     std::int64_t steps() const { return steps_; }
@@ -326,15 +325,13 @@ private:
     }
 
     // The state has been seen `period` steps ago: from here the states repeat
-    // with that period. The clock still needs every add (its rounding has no
-    // closed form); the state only the remainder.
+    // with that period. The clock jumps to its end; the state steps only
+    // the remainder.
     void skip_periodic(std::int64_t period) {
         repeat_found_at_ = steps_;
         repeat_period_ = period;
-        std::int64_t remaining = 0;
-        DocumentClock clock = clock_;  // a local: t stays in a register
-        for (; clock.running(); clock.advance()) ++remaining;
-        clock_ = clock;
+        const std::int64_t remaining = clock_.remaining_steps();
+        clock_.advance(remaining);
         for (std::int64_t k = remaining % period; k > 0; --k) move();
         steps_ += remaining;
     }

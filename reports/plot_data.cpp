@@ -34,6 +34,32 @@ void TraceDecimator::keep(const State& s) {
     trace_.p.push_back(s.p);
 }
 
+void TraceDecimator::write_periodic(const PeriodicTail& tail) {
+    PeriodicTail::Cursor at(tail);
+    // State by state while a turning point may still be kept: one whole
+    // cycle after the first state shows whether the cycle reverses at all.
+    const std::int64_t period = tail.period();
+    if (at.left() > 0) write(at.next());
+    const std::size_t before_cycle = turning_points_;
+    for (std::int64_t i = 0; i < period && at.left() > 0; ++i) write(at.next());
+    const bool cycle_reverses = turning_points_ != before_cycle;
+    while (cycle_reverses && turning_points_ < kPlotTurningPoints && at.left() > 0) write(at.next());
+    // From here only the stride keeps states, and the last one is kept by finish().
+    while (until_kept_ < at.left()) {
+        at.skip(until_kept_);
+        previous_ = at.next();
+        keep(previous_);
+        previous_kept_ = true;
+        until_kept_ = stride_ - 1;
+    }
+    if (at.left() > 0) {
+        until_kept_ -= at.left();
+        at.skip(at.left() - 1);
+        previous_ = at.next();
+        previous_kept_ = false;
+    }
+}
+
 PlotTrace TraceDecimator::finish() {
     if (started_ && !previous_kept_) keep(previous_);
     previous_kept_ = true;
@@ -53,8 +79,7 @@ PlotTrace exact_plot_trace(const ExactModel& exact, const Scenario& s, std::size
     }
     std::sort(events.begin(), events.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
 
-    // The document clock's every sample time, but only the kept samples
-    // evaluated: the run's length costs one addition per sample.
+    // Only the kept samples: the clock jumps from one to the next.
     const std::int64_t stride = plot_stride(expected_states(s), budget);
     PlotTrace trace;
     auto keep = [&](double t) {
@@ -62,23 +87,26 @@ PlotTrace exact_plot_trace(const ExactModel& exact, const Scenario& s, std::size
         trace.p.push_back(exact.state_at(t).p);
     };
     std::size_t next_event = 0;
-    std::int64_t until_kept = 0;
-    for (DocumentClock clock(s.dt, s.duration);; clock.advance()) {
-        const double t = clock.t();
+    auto keep_sample = [&](double t) {
         while (next_event < events.size() && events[next_event].first < t) {
             trace.t.push_back(events[next_event].first);
             trace.p.push_back(events[next_event].second);
             ++next_event;
         }
-        const bool kept = until_kept-- == 0;
-        if (kept) {
-            keep(t);
-            until_kept = stride - 1;
-        }
-        if (!clock.running()) {
-            if (!kept) keep(t);  // the last sample always
-            break;
-        }
+        keep(t);
+    };
+    // Samples 0, stride, 2 stride, ... and the last one (the clock jumps).
+    DocumentClock clock(s.dt, s.duration);
+    const std::int64_t last = clock.remaining_steps();
+    std::int64_t sample = 0;
+    for (; sample + stride <= last; sample += stride) {
+        keep_sample(clock.t());
+        clock.advance(stride);
+    }
+    keep_sample(clock.t());
+    if (sample < last) {
+        clock.advance(last - sample);
+        keep_sample(clock.t());
     }
     return trace;
 }

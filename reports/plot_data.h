@@ -57,6 +57,9 @@ public:
         previous_kept_ = kept;
         started_ = true;
     }
+    // The same kept states as write() of each, in O(period x turning
+    // points kept + kept states x log) instead of O(states).
+    void write_periodic(const PeriodicTail& tail) override;
     PlotTrace finish();
 
 private:

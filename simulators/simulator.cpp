@@ -22,7 +22,11 @@ public:
         return true;
     }
     void on_periodic_tail(const PeriodicTail& tail) override {
-        for (PeriodicTail::Cursor at(tail); at.left() > 0;) on_state(at.next(), ContactMask{});
+        if (tail.count <= 0) return;
+        PeriodicTail::Cursor at(tail);
+        at.skip(tail.count - 1);
+        on_state(at.next(), ContactMask{});
+        states += tail.count - 1;
     }
     State last;
     std::int64_t states = 0;

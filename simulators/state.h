@@ -2,7 +2,9 @@
 #pragma once
 
 #include "scenarios/scenario.h"
+#include "simulators/repeated_addition.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -36,8 +38,7 @@ struct PeriodicTail {
     std::int64_t period() const { return static_cast<std::int64_t>(cycle.size()); }
 
     // Walks the tail in order: next() makes the next state, pass() goes past
-    // it without making it (its time is still added: the clock's rounding
-    // has no closed form).
+    // it without making it, skip(n) goes past n of them in O(log n).
     class Cursor {
     public:
         explicit Cursor(const PeriodicTail& tail) : tail_(&tail), t_(tail.t_before) {}
@@ -55,6 +56,19 @@ struct PeriodicTail {
             if (++phase_ == tail_->cycle.size()) phase_ = 0;
             ++done_;
             return t_;
+        }
+        // The time of the state `ahead` states after the next one.
+        double t_ahead(std::int64_t ahead) const { return sum_after(t_, tail_->dt, ahead + 1); }
+        // How many of the states left have a time before `limit`.
+        std::int64_t left_before(double limit) const {
+            const auto to_reach = additions_to_reach(t_, tail_->dt, limit, left());
+            return to_reach ? std::max<std::int64_t>(*to_reach - 1, 0) : left();
+        }
+        void skip(std::int64_t n) {
+            t_ = sum_after(t_, tail_->dt, n);
+            phase_ = static_cast<std::size_t>((static_cast<std::int64_t>(phase_) + n % tail_->period()) %
+                                              tail_->period());
+            done_ += n;
         }
 
     private:

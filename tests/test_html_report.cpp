@@ -10,6 +10,7 @@
 #include "reports/run_report.h"
 #include "reports/web_assets.h"
 #include "scenarios/loader.h"
+#include "simulators/document_clock.h"
 #include "simulators/simulator.h"
 
 #include <gtest/gtest.h>
@@ -84,6 +85,40 @@ TEST(ExactPlotTrace, HasEveryContactAtItsInstantAndPosition) {
         EXPECT_EQ(trace.p[static_cast<std::size_t>(it - trace.t.begin())], c.p);
     }
     EXPECT_TRUE(std::is_sorted(trace.t.begin(), trace.t.end()));
+}
+
+// The samples are the document clock's every stride-th and its last, with
+// the events between them, as a walk over every sample keeps them (the
+// trace jumps from kept sample to kept sample).
+TEST(ExactPlotTrace, KeepsTheClocksSamplesAsAWalkOverEverySample) {
+    for (const char* file : {"seed-2d.toml", "seed-3d.toml"}) {
+        Scenario s = seed(file);
+        s.duration = 4321.5;
+        const ExactModel exact(s);
+        const PlotTrace trace = exact_plot_trace(exact, s, 97);
+        const std::int64_t stride = plot_stride(expected_states(s), 97);
+        std::vector<double> kept;
+        DocumentClock clock(s.dt, s.duration);
+        for (std::int64_t n = 0;; ++n, clock.advance()) {
+            if (n % stride == 0 || !clock.running()) kept.push_back(clock.t());
+            if (!clock.running()) break;
+        }
+        // The kept samples in order, and nothing else but events between them.
+        const auto& contacts = exact.contacts();
+        const auto& apexes = exact.apexes();
+        std::size_t next = 0;
+        for (const double t : trace.t) {
+            if (next < kept.size() && t == kept[next]) {
+                ++next;
+                continue;
+            }
+            const bool event = std::any_of(contacts.begin(), contacts.end(), [&](const auto& c) { return c.t == t; }) ||
+                               std::any_of(apexes.begin(), apexes.end(), [&](const auto& a) { return a.t == t; });
+            EXPECT_TRUE(event) << file << ": t = " << t;
+        }
+        EXPECT_EQ(next, kept.size()) << file;
+        EXPECT_GT(kept.size(), 90u);
+    }
 }
 
 // The data island of a page, parsed back.

@@ -8,6 +8,7 @@
 #include "metrics/summary.h"
 #include "reference/reference_model.h"
 #include "reference/reference_simulator.h"
+#include "reports/plot_data.h"
 #include "scenarios/loader.h"
 #include "simulators/simulator.h"
 
@@ -354,6 +355,42 @@ TEST(PeriodicTail, SharedBaselinesGiveTheComparisonsOwnFiguresBitForBit) {
     expect_same_divergence(shared.vs_exact(), own.vs_exact());
     expect_same_divergence(shared.vs_reference(), own.vs_reference());
     EXPECT_GT(own.vs_exact().max, 0.0);
+}
+
+void expect_same_trace(const PlotTrace& a, const PlotTrace& b) {
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        EXPECT_EQ(bits(a.t[i]), bits(b.t[i])) << i;
+        for (int k = 0; k < 3; ++k) EXPECT_EQ(bits(a.p[i][k]), bits(b.p[i][k])) << i;
+    }
+}
+
+// The plotted path of a tail (the decimator jumps from kept state to kept
+// state once no turning point can be kept) is the path of its every state.
+TEST(PeriodicTail, PlotTraceOfATailMatchesStateByStateBitForBit) {
+    for (const char* file : {"seed-3d.toml", "seed-2d.toml"}) {
+        Scenario dropped_ball = dropped(file);
+        dropped_ball.duration = 400;
+        Scenario long_run = seed(file);
+        long_run.duration = 45000;
+        for (const Scenario& s : {dropped_ball, long_run}) {
+            for (const std::size_t budget : {7u, 600u}) {
+                SCOPED_TRACE(s.name + ", duration " + std::to_string(s.duration) + ", budget " +
+                             std::to_string(budget));
+                // The reference micro-bounces at rest: its cycle reverses,
+                // until the turning points' budget is spent.
+                TraceDecimator filled(expected_states(s), budget), each(expected_states(s), budget);
+                ASSERT_TRUE(record_run(*make_reference_simulator(), s, &filled).filled_from.has_value());
+                stepped(s, &each);
+                expect_same_trace(filled.finish(), each.finish());
+                // Exact at rest: a cycle of one still state, never reversing.
+                TraceDecimator exact_filled(expected_states(s), budget), exact_each(expected_states(s), budget);
+                ASSERT_TRUE(record_run(*make_exact_simulator(), s, &exact_filled).filled_from.has_value());
+                ExactModel(s).sample_document_clock([&](const State& st) { exact_each.write(st); });
+                expect_same_trace(exact_filled.finish(), exact_each.finish());
+            }
+        }
+    }
 }
 
 TEST(PeriodicTail, DefaultSinkWritesEveryTailState) {
