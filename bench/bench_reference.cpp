@@ -10,7 +10,8 @@
 // the run enters the Zeno regime. ReferenceStepByStep/N: the same run one
 // step() at a time with state() read after each, as a streaming consumer
 // does. NaiveStep/N is the same model with plain hardware arithmetic (no
-// subnormal handling), for the side-by-side ratio. ReferenceRun/N: the whole
+// subnormal handling), for the side-by-side ratio; NaiveStepElastic/N the
+// same on the elastic seed. ReferenceRun/N: the whole
 // `reference` simulator (Simulator::run with the metrics recorder), as
 // `bouncecheck run` runs it.
 #include "exact/exact_model.h"
@@ -83,6 +84,25 @@ void NaiveStep(benchmark::State& state) {
     set_per_step(state, steps);
 }
 
+// The same plain loop on the elastic seed (alpha = beta = 1): no velocity
+// decays into the subnormals, so every step runs at hardware speed. The
+// yardstick of a long run's cost (bench/README.md, 7).
+void NaiveStepElastic(benchmark::State& state) {
+    Scenario s = seed3d_with_steps(state.range(0));
+    s.alpha = s.beta = 1;
+    std::int64_t steps = 0;
+    for (auto _ : state) {
+        PlainReferenceModel3d model(s);
+        for (DocumentClock clock(s.dt, s.duration); clock.running(); clock.advance()) {
+            model.step();
+            ++steps;
+        }
+        benchmark::DoNotOptimize(model.p);
+        benchmark::DoNotOptimize(model.v);
+    }
+    set_per_step(state, steps);
+}
+
 void ReferenceRun(benchmark::State& state) {
     const Scenario s = seed3d_with_steps(state.range(0));
     const auto sim = make_reference_simulator();
@@ -108,6 +128,7 @@ void ExactSolve(benchmark::State& state) {
 BENCHMARK(ReferenceStep)->Arg(1000)->Arg(1400)->Arg(100000)->Arg(10000000)->Arg(100000000)->Unit(benchmark::kMillisecond);
 BENCHMARK(ReferenceStepByStep)->Arg(1000)->Arg(100000)->Arg(10000000)->Unit(benchmark::kMillisecond);
 BENCHMARK(NaiveStep)->Arg(1000)->Arg(1400)->Arg(100000)->Arg(10000000)->Arg(100000000)->Unit(benchmark::kMillisecond);
+BENCHMARK(NaiveStepElastic)->Arg(100000000)->Unit(benchmark::kMillisecond);
 BENCHMARK(ReferenceRun)->Arg(1000)->Arg(100000)->Arg(10000000)->Arg(100000000)->Unit(benchmark::kMillisecond);
 BENCHMARK(ExactSolve)->Arg(42)->Arg(1000)->Arg(100000)->Unit(benchmark::kMicrosecond);
 
