@@ -68,9 +68,9 @@ void ReferenceStepByStep(benchmark::State& state) {
     set_per_step(state, steps);
 }
 
-// The document's model written plainly: no subnormal handling.
-void NaiveStep(benchmark::State& state) {
-    const Scenario s = seed3d_with_steps(state.range(0));
+// The document's model written plainly (no subnormal handling), stepped
+// over `s`'s clock.
+void plain_loop(benchmark::State& state, const Scenario& s) {
     std::int64_t steps = 0;
     for (auto _ : state) {
         PlainReferenceModel3d model(s);
@@ -84,23 +84,15 @@ void NaiveStep(benchmark::State& state) {
     set_per_step(state, steps);
 }
 
+void NaiveStep(benchmark::State& state) { plain_loop(state, seed3d_with_steps(state.range(0))); }
+
 // The same plain loop on the elastic seed (alpha = beta = 1): no velocity
 // decays into the subnormals, so every step runs at hardware speed. The
 // yardstick of a long run's cost (bench/README.md, 7).
 void NaiveStepElastic(benchmark::State& state) {
     Scenario s = seed3d_with_steps(state.range(0));
     s.alpha = s.beta = 1;
-    std::int64_t steps = 0;
-    for (auto _ : state) {
-        PlainReferenceModel3d model(s);
-        for (DocumentClock clock(s.dt, s.duration); clock.running(); clock.advance()) {
-            model.step();
-            ++steps;
-        }
-        benchmark::DoNotOptimize(model.p);
-        benchmark::DoNotOptimize(model.v);
-    }
-    set_per_step(state, steps);
+    plain_loop(state, s);
 }
 
 void ReferenceRun(benchmark::State& state) {

@@ -58,7 +58,8 @@ struct DistanceSeries {
 class BaselineTrack;
 
 // Compares a simulator's state stream, as it streams, with the reference
-// (stepped alongside) and with exact. Pass it as the run's StateSink.
+// and with exact (read from the shared track, then the reference stepped
+// alongside and exact evaluated). Pass it as the run's StateSink.
 class TrajectoryComparer final : public StateSink {
 public:
     // With a track (share_baselines), the baselines' first samples are read

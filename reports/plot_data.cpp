@@ -79,34 +79,30 @@ PlotTrace exact_plot_trace(const ExactModel& exact, const Scenario& s, std::size
     }
     std::sort(events.begin(), events.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
 
-    // Only the kept samples: the clock jumps from one to the next.
+    // The document clock's samples 0, stride, 2 stride, ... and its last,
+    // each after the events before it. The clock jumps from one to the next.
     const std::int64_t stride = plot_stride(expected_states(s), budget);
     PlotTrace trace;
+    std::size_t next_event = 0;
     auto keep = [&](double t) {
+        for (; next_event < events.size() && events[next_event].first < t; ++next_event) {
+            trace.t.push_back(events[next_event].first);
+            trace.p.push_back(events[next_event].second);
+        }
         trace.t.push_back(t);
         trace.p.push_back(exact.state_at(t).p);
     };
-    std::size_t next_event = 0;
-    auto keep_sample = [&](double t) {
-        while (next_event < events.size() && events[next_event].first < t) {
-            trace.t.push_back(events[next_event].first);
-            trace.p.push_back(events[next_event].second);
-            ++next_event;
-        }
-        keep(t);
-    };
-    // Samples 0, stride, 2 stride, ... and the last one (the clock jumps).
     DocumentClock clock(s.dt, s.duration);
     const std::int64_t last = clock.remaining_steps();
     std::int64_t sample = 0;
     for (; sample + stride <= last; sample += stride) {
-        keep_sample(clock.t());
+        keep(clock.t());
         clock.advance(stride);
     }
-    keep_sample(clock.t());
+    keep(clock.t());
     if (sample < last) {
         clock.advance(last - sample);
-        keep_sample(clock.t());
+        keep(clock.t());
     }
     return trace;
 }

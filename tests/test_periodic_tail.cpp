@@ -393,6 +393,22 @@ TEST(PeriodicTail, PlotTraceOfATailMatchesStateByStateBitForBit) {
     }
 }
 
+// The sweep's unrecorded run jumps over a tail: the same steps and final
+// state as the recorded run that takes it state by state.
+TEST(PeriodicTail, UnrecordedRunJumpsToTheRecordedFinalState) {
+    for (const char* file : {"seed-3d.toml", "seed-2d.toml"}) {
+        Scenario s = seed(file);
+        s.duration = 45000;
+        SCOPED_TRACE(file);
+        const auto exact = make_exact_simulator();
+        const SimulatorSummary recorded = record_run(*exact, s);
+        ASSERT_TRUE(recorded.filled_from.has_value());
+        const UnrecordedRun unrecorded = exact->run_unrecorded(s);
+        EXPECT_EQ(unrecorded.steps, recorded.steps);
+        expect_same_state(unrecorded.final_state, recorded.final_state);
+    }
+}
+
 TEST(PeriodicTail, DefaultSinkWritesEveryTailState) {
     PeriodicTail tail;
     tail.cycle = {State{0, {1, 2, 3}, {0, 0, 0}}, State{0, {4, 5, 6}, {0, 0, 0}}};
