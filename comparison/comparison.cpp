@@ -34,9 +34,9 @@ struct TrajectoryComparer::Stats {
             ++samples_before;
             max_sq_before = std::max(max_sq_before, squared);
         }
-        if (squared > screen && !result.first_exceeds && std::sqrt(squared) > result.tolerance)
-            result.first_exceeds = t;
+        if (!result.first_exceeds && exceeds(squared)) result.first_exceeds = t;
     }
+    bool exceeds(double squared) const { return squared > screen && std::sqrt(squared) > result.tolerance; }
     // The rest of a periodic tail whose squared distances repeat `cycle`
     // from the next sample on: what add() of each gives, bit for bit, in
     // O(cycle x log) (simulators/repeated_addition.h).
@@ -55,8 +55,7 @@ struct TrajectoryComparer::Stats {
             max_sq_before = std::max(max_sq_before, largest(before));
         }
         for (std::int64_t j = 0; j < std::min(n, period) && !result.first_exceeds; ++j) {
-            const double squared = cycle[static_cast<std::size_t>(j)];
-            if (squared > screen && std::sqrt(squared) > result.tolerance) result.first_exceeds = at.t_ahead(j);
+            if (exceeds(cycle[static_cast<std::size_t>(j)])) result.first_exceeds = at.t_ahead(j);
         }
     }
     TrajectoryDivergence finished() const {

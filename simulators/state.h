@@ -37,8 +37,8 @@ struct PeriodicTail {
     double t_before = 0, dt = 0;
     std::int64_t period() const { return static_cast<std::int64_t>(cycle.size()); }
 
-    // Walks the tail in order: next() makes the next state, pass() goes past
-    // it without making it, skip(n) goes past n of them in O(log n).
+    // Walks the tail in order: next() makes the next state, skip(n) goes
+    // past n of them in O(log n).
     class Cursor {
     public:
         explicit Cursor(const PeriodicTail& tail) : tail_(&tail), t_(tail.t_before) {}
@@ -48,14 +48,11 @@ struct PeriodicTail {
         State next(ContactMask* contact = nullptr) {
             State s = tail_->cycle[phase_];
             if (contact) *contact = tail_->contacts[phase_];
-            s.t = pass();
-            return s;
-        }
-        double pass() {
             t_ = t_ + tail_->dt;
+            s.t = t_;
             if (++phase_ == tail_->cycle.size()) phase_ = 0;
             ++done_;
-            return t_;
+            return s;
         }
         // The time of the state `ahead` states after the next one.
         double t_ahead(std::int64_t ahead) const { return sum_after(t_, tail_->dt, ahead + 1); }
