@@ -129,6 +129,16 @@ struct Case {
     std::unique_ptr<Baselines> base;
 };
 
+// The baselines as `bouncecheck run` makes them for every built simulator
+// (the track shared), plots on.
+std::unique_ptr<Baselines> baselines_for_every_simulator(const Scenario& s,
+                                                         const std::vector<std::unique_ptr<const Simulator>>& all) {
+    RunRequest request;
+    request.plots = true;
+    for (const auto& sim : all) request.simulators.push_back(sim.get());
+    return std::make_unique<Baselines>(s, request);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -147,12 +157,12 @@ int main(int argc, char** argv) {
             if (!sim->third_party() || sim->cannot_run(c.scenario)) continue;
             const std::string name = "Compared/" + std::string(sim->name()) + "/" + c.scenario.name;
             benchmark::RegisterBenchmark(name.c_str(), [&c, &sim = *sim](benchmark::State& st) {
-                if (!c.base) c.base = std::make_unique<Baselines>(c.scenario, true);
+                if (!c.base) c.base = baselines_for_every_simulator(c.scenario, simulators);
                 paired(st, sim, c.scenario, *c.base);
             })->Unit(benchmark::kMillisecond);
             benchmark::RegisterBenchmark(("Harness/" + std::string(sim->name()) + "/" + c.scenario.name).c_str(),
                                          [&c, &sim = *sim](benchmark::State& st) {
-                                             if (!c.base) c.base = std::make_unique<Baselines>(c.scenario, true);
+                                             if (!c.base) c.base = baselines_for_every_simulator(c.scenario, simulators);
                                              static std::map<std::string, std::unique_ptr<Replay>> replays;
                                              auto& replay = replays[std::string(sim.name()) + "/" + c.scenario.name];
                                              if (!replay) replay = std::make_unique<Replay>(sim, c.scenario);

@@ -156,12 +156,24 @@ std::shared_ptr<const BaselineTrack> TrajectoryComparer::share_baselines(const S
 TrajectoryComparer::TrajectoryComparer(const Scenario& s, const ExactModel& exact,
                                        std::optional<double> reference_rest, std::optional<double> exact_rest,
                                        std::shared_ptr<const BaselineTrack> track)
+    : TrajectoryComparer(s, exact, reference_rest, exact_rest, std::move(track), false) {}
+
+TrajectoryComparer TrajectoryComparer::of_the_reference(const Scenario& s, const ExactModel& exact,
+                                                        std::optional<double> exact_rest,
+                                                        std::shared_ptr<const BaselineTrack> track) {
+    return TrajectoryComparer(s, exact, std::nullopt, exact_rest, std::move(track), true);
+}
+
+TrajectoryComparer::TrajectoryComparer(const Scenario& s, const ExactModel& exact,
+                                       std::optional<double> reference_rest, std::optional<double> exact_rest,
+                                       std::shared_ptr<const BaselineTrack> track, bool stream_is_reference)
     : exact_model_(exact),
       exact_(exact),
       track_(std::move(track)),
       tracked_(track_ ? static_cast<std::int64_t>(track_->reference.size()) : 0),
       clock_(s.dt, s.duration),
-      reference_(track_ ? nullptr : std::make_unique<LockstepReference>(s)),
+      stream_is_reference_(stream_is_reference),
+      reference_(track_ || stream_is_reference ? nullptr : std::make_unique<LockstepReference>(s)),
       vs_reference_(std::make_unique<Stats>(reference_rest)),
       vs_exact_(std::make_unique<Stats>(exact_rest)) {}
 
@@ -172,19 +184,22 @@ TrajectoryComparer::LockstepReference& TrajectoryComparer::reference() {
     return *reference_;
 }
 
+Vec3 TrajectoryComparer::next_reference_position(bool tracked, std::size_t n) {
+    if (tracked) return track_->reference[n];
+    return reference().with([](auto& r) { return r.next_position(); });
+}
+
 void TrajectoryComparer::write(const State& s) {
-    double to_reference = 0, to_exact = 0;
-    if (sample_ < tracked_) {
-        // Sample n is compared with the reference's sample n; exact is read
-        // where the stream's time is the clock's (an imported stream's may not be).
-        const auto n = static_cast<std::size_t>(sample_);
-        to_reference = (s.p - track_->reference[n]).squaredNorm();
-        to_exact = (s.p - (s.t == clock_.t() ? track_->exact[n] : exact_.state(s.t).p)).squaredNorm();
-        clock_.advance();
-    } else {
-        to_reference = reference().with([&](auto& r) { return (s.p - r.next_position()).squaredNorm(); });
-        to_exact = (s.p - exact_.state(s.t).p).squaredNorm();
-    }
+    // Sample n is compared with the reference's sample n; exact is read from
+    // the track where the stream's time is the clock's (an imported stream's
+    // may not be).
+    const bool tracked = sample_ < tracked_;
+    const auto n = static_cast<std::size_t>(sample_);
+    const double to_reference =
+        stream_is_reference_ ? 0.0 : (s.p - next_reference_position(tracked, n)).squaredNorm();
+    const bool exact_tracked = tracked && s.t == clock_.t();
+    const double to_exact = (s.p - (exact_tracked ? track_->exact[n] : exact_.state(s.t).p)).squaredNorm();
+    if (tracked) clock_.advance();
     ++sample_;
     add(s.t, to_reference, to_exact);
 }
@@ -204,7 +219,8 @@ void TrajectoryComparer::write_periodic(const PeriodicTail& tail) {
     // The common period of the tail and the reference's cycle, if both
     // baselines repeat from the next sample on and it is not too long.
     auto common_period = [&]() -> std::int64_t {
-        const std::int64_t reference_period = reference().with([](auto& r) { return r.replay_period(); });
+        const std::int64_t reference_period =
+            stream_is_reference_ ? period : reference().with([](auto& r) { return r.replay_period(); });
         if (reference_period == 0 || !exact_model_.still_after(at.next_t())) return 0;
         const std::int64_t common = std::lcm(period, reference_period);
         return common <= kMaxReplayedPeriod ? common : 0;
@@ -218,10 +234,11 @@ void TrajectoryComparer::write_periodic(const PeriodicTail& tail) {
     std::vector<double> to_reference(common), to_exact(common);
     for (std::int64_t j = 0; j < common; ++j) {
         const Vec3& p = tail.cycle[(at.phase() + j) % period].p;
-        to_reference[j] = reference().with([&](auto& r) { return (p - r.replayed(j)).squaredNorm(); });
+        to_reference[j] =
+            stream_is_reference_ ? 0.0 : reference().with([&](auto& r) { return (p - r.replayed(j)).squaredNorm(); });
         to_exact[j] = (p - exact_p).squaredNorm();
     }
-    reference().with([&](auto& r) { r.skip(at.left()); });
+    if (!stream_is_reference_) reference().with([&](auto& r) { r.skip(at.left()); });
     sample_ += at.left();
     vs_reference_->add_periodic(at, to_reference);
     vs_exact_->add_periodic(at, to_exact);

@@ -66,6 +66,13 @@ public:
     // from it rather than made again: the same results, bit for bit.
     TrajectoryComparer(const Scenario& s, const ExactModel& exact, std::optional<double> reference_rest,
                        std::optional<double> exact_rest, std::shared_ptr<const BaselineTrack> track = nullptr);
+    // For the reference's own stream: its distance to the reference is
+    // zero at every sample, so no second reference is stepped beside it.
+    // vs_reference() then has no rest cut: the caller knows the stream's rest
+    // only once it has run (a zero distance gives the same figures with any cut).
+    static TrajectoryComparer of_the_reference(const Scenario& s, const ExactModel& exact,
+                                               std::optional<double> exact_rest,
+                                               std::shared_ptr<const BaselineTrack> track = nullptr);
     ~TrajectoryComparer() override;
 
     // The reference's positions at the document clock's first samples and
@@ -95,17 +102,23 @@ public:
 
 private:
     friend class BaselineTrack;
+    TrajectoryComparer(const Scenario& s, const ExactModel& exact, std::optional<double> reference_rest,
+                       std::optional<double> exact_rest, std::shared_ptr<const BaselineTrack> track,
+                       bool stream_is_reference);
     struct Stats;
     struct LockstepReference;
     // One sample's squared distances (every figure is kept squared until read).
     void add(double t, double to_reference, double to_exact);
     // Past the track: the reference as it stands after the track's samples.
     LockstepReference& reference();
+    // The reference's position at the next sample (tracked: sample n).
+    Vec3 next_reference_position(bool tracked, std::size_t n);
     const ExactModel& exact_model_;
     ExactModel::Cursor exact_;  // the stream's times do not decrease
     std::shared_ptr<const BaselineTrack> track_;
     std::int64_t tracked_ = 0, sample_ = 0;  // the track's samples; the next sample's index
     DocumentClock clock_;                    // the next sample's time on the document clock
+    bool stream_is_reference_ = false;              // of_the_reference
     std::unique_ptr<LockstepReference> reference_;  // made when first needed past the track
     std::unique_ptr<Stats> vs_reference_, vs_exact_;
     std::optional<WindowMaxSeries> reference_series_, exact_series_;  // of squared distances

@@ -67,6 +67,10 @@ TEST(Comparison, ReferenceAgainstItselfHasZeroDivergence) {
     EXPECT_EQ(c.vs_reference.trajectory.max, 0.0);
     EXPECT_EQ(c.vs_reference.trajectory.samples, 1401);
     EXPECT_FALSE(c.vs_reference.trajectory.first_exceeds.has_value());
+    // Its row is its baseline run (Baselines), cut at its own rest.
+    ASSERT_TRUE(run.results[0].rest_time.has_value());
+    EXPECT_EQ(c.vs_reference.trajectory.rest_cut, run.results[0].rest_time);
+    EXPECT_EQ(run.results[0].steps, 1400);
     ASSERT_EQ(c.vs_reference.bounces.size(), static_cast<size_t>(kDefaultBounceCount));
     EXPECT_EQ(c.vs_reference.bounce_height_rel_max, 0.0);
     EXPECT_GT(c.vs_exact.trajectory.rms, 0.0);  // the reference's own error at dt = 0.03

@@ -357,6 +357,47 @@ TEST(PeriodicTail, SharedBaselinesGiveTheComparisonsOwnFiguresBitForBit) {
     EXPECT_GT(own.vs_exact().max, 0.0);
 }
 
+// The reference's own row is compared with no second reference beside it
+// (TrajectoryComparer::of_the_reference: a zero distance at every sample).
+// It gives what comparing its stream with a lockstep reference gives, bit
+// for bit, once its rest cut is set: from the run, with and without a shared
+// track, through a handed-over tail.
+TEST(PeriodicTail, TheReferencesOwnComparisonIsTheLockstepOneBitForBit) {
+    for (const char* file : {"seed-3d.toml", "seed-2d.toml"}) {
+        Scenario long_run = seed(file);
+        long_run.duration = 45000;
+        for (const Scenario& s : {seed(file), long_run}) {
+            const ExactModel exact(s);
+            for (const std::int64_t track_samples : {std::int64_t{0}, std::int64_t{500}}) {
+                SCOPED_TRACE(s.name + ", duration " + std::to_string(s.duration) + ", track " +
+                             std::to_string(track_samples));
+                const auto track = track_samples > 0 ? TrajectoryComparer::share_baselines(s, exact, track_samples)
+                                                     : nullptr;
+                const SimulatorSummary reference = record_run(*make_reference_simulator(), s);
+                if (s.duration > 1000) {
+                    ASSERT_TRUE(reference.rest_time.has_value());  // the cut is exercised
+                }
+                TrajectoryComparer itself = TrajectoryComparer::of_the_reference(s, exact, exact.rest_time(), track);
+                TrajectoryComparer lockstep(s, exact, reference.rest_time, exact.rest_time(), track);
+                itself.record_series(97);
+                lockstep.record_series(97);
+                const SimulatorSummary filled = record_run(*make_reference_simulator(), s, &itself);
+                record_run(*make_reference_simulator(), s, &lockstep);
+                EXPECT_EQ(filled.filled_from.has_value(), s.duration > 1000);
+                TrajectoryDivergence own = itself.vs_reference();
+                EXPECT_FALSE(own.rest_cut.has_value());
+                own.rest_cut = filled.rest_time;
+                expect_same_divergence(own, lockstep.vs_reference());
+                EXPECT_EQ(lockstep.vs_reference().max, 0.0);
+                expect_same_divergence(itself.vs_exact(), lockstep.vs_exact());
+                EXPECT_GT(lockstep.vs_exact().max, 0.0);
+                expect_same_series(*itself.reference_series(), *lockstep.reference_series());
+                expect_same_series(*itself.exact_series(), *lockstep.exact_series());
+            }
+        }
+    }
+}
+
 void expect_same_trace(const PlotTrace& a, const PlotTrace& b) {
     ASSERT_EQ(a.size(), b.size());
     for (std::size_t i = 0; i < a.size(); ++i) {

@@ -157,12 +157,30 @@ std::vector<std::optional<ComparedRun>> run_isolated(const Scenario& s, const Ru
 
 // ------------------------------------------------ one simulator
 
-Baselines::Baselines(const Scenario& s, bool plots)
-    : exact(s),
-      track(TrajectoryComparer::share_baselines(s, exact)),
-      reference(record_run(*make_reference_simulator(), s)),
-      exact_summary(record_run(*make_exact_simulator(), s)) {
-    if (plots) exact_path = exact_plot_trace(exact, s);
+namespace {
+
+// The reference runs once per scenario, as the baseline; its own row is that
+// run, compared as it streams (Baselines).
+bool is_the_reference(const Simulator& sim) { return sim.name() == "reference"; }
+
+}  // namespace
+
+Baselines::Baselines(const Scenario& s, const RunRequest& request)
+    : exact(s), exact_summary(record_run(*make_exact_simulator(), s)) {
+    if (request.plots) exact_path = exact_plot_trace(exact, s);
+    const Simulator* reference_sim = nullptr;
+    std::size_t readers = 0;
+    for (const Simulator* sim : request.simulators) {
+        if (is_the_reference(*sim)) reference_sim = sim;
+        else if (!sim->cannot_run(s)) ++readers;
+    }
+    if (readers >= 2) track = TrajectoryComparer::share_baselines(s, exact);
+    if (reference_sim) {
+        reference_row = run_compared(*reference_sim, s, request, *this);
+        reference = reference_row->summary;
+    } else {
+        reference = record_run(*make_reference_simulator(), s);
+    }
 }
 
 namespace {
@@ -191,7 +209,13 @@ struct ComparedSink final : StateSink {
 ComparedRun run_compared(const Simulator& sim, const Scenario& s, const RunRequest& request, const Baselines& base) {
     ComparedRun o;
     o.summary.simulator = std::string(sim.name());
-    TrajectoryComparer comparer(s, base.exact, base.reference.rest_time, base.exact_summary.rest_time, base.track);
+    // The reference's own row is run while its baselines are made
+    // (Baselines), before base.reference exists.
+    const bool is_reference = is_the_reference(sim);
+    TrajectoryComparer comparer =
+        is_reference ? TrajectoryComparer::of_the_reference(s, base.exact, base.exact_summary.rest_time, base.track)
+                     : TrajectoryComparer(s, base.exact, base.reference.rest_time, base.exact_summary.rest_time,
+                                          base.track);
     std::optional<TraceDecimator> trace;
     const std::int64_t states = expected_states(s);
     if (request.plots) {
@@ -219,6 +243,7 @@ ComparedRun run_compared(const Simulator& sim, const Scenario& s, const RunReque
         o.summary.reason = fmt::format("exception: {}", e.what());
     }
     o.vs_reference = comparer.vs_reference();
+    if (is_reference) o.vs_reference.rest_cut = o.summary.rest_time;  // its own rest is the reference's
     o.vs_exact = comparer.vs_exact();
     if (request.plots) {
         ScenarioRun::SimulatorPlot plot;
@@ -236,7 +261,7 @@ ComparedRun run_compared(const Simulator& sim, const Scenario& s, const RunReque
 ScenarioRun run_scenario(const Scenario& s, const RunRequest& request) {
     ScenarioRun run;
     run.scenario = s;
-    const Baselines base(s, request.plots);
+    const Baselines base(s, request);
     if (request.plots) {
         run.exact_path = base.exact_path;
         run.exact_apexes = base.exact_summary.apexes;
@@ -256,7 +281,9 @@ ScenarioRun run_scenario(const Scenario& s, const RunRequest& request) {
             if (request.plots) run.plots.emplace_back();
             continue;
         }
-        ComparedRun o = isolated[i] ? std::move(*isolated[i]) : run_compared(*sim, s, request, base);
+        ComparedRun o = isolated[i]              ? std::move(*isolated[i])
+                        : is_the_reference(*sim) ? *base.reference_row
+                                                 : run_compared(*sim, s, request, base);
         o.summary.origin = std::string(sim->origin());
         const ThresholdSet limits = limits_for(s, o.summary.simulator, request.threshold_overrides);
         const int bounce_count = limits.bounce_count.value_or(kDefaultBounceCount);

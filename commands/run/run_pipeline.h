@@ -31,21 +31,28 @@ struct RunRequest {
     double budget_seconds = 0;
 };
 
-// What every simulator of a scenario is compared with, run once per scenario.
-struct Baselines {
-    Baselines(const Scenario& s, bool plots);
-    ExactModel exact;
-    std::shared_ptr<const BaselineTrack> track;  // TrajectoryComparer::share_baselines
-    SimulatorSummary reference, exact_summary;
-    PlotTrace exact_path;  // exact's path with its contacts at their instants (plots only)
-};
-
 // One simulator's run, recorded and compared with the baselines as it
 // streams: what the comparison's verdicts are made from (run_scenario).
 struct ComparedRun {
     SimulatorSummary summary;
     TrajectoryDivergence vs_reference, vs_exact;
     std::optional<ScenarioRun::SimulatorPlot> plot;  // with request.plots
+};
+
+// What every simulator of a scenario is compared with, run once per scenario
+// for the request's rows.
+struct Baselines {
+    Baselines(const Scenario& s, const RunRequest& request);
+    ExactModel exact;
+    SimulatorSummary exact_summary;
+    PlotTrace exact_path;  // exact's path with its contacts at their instants (plots only)
+    // TrajectoryComparer::share_baselines, when two or more rows besides the
+    // reference's read it: for one, it would be made and read once.
+    std::shared_ptr<const BaselineTrack> track;
+    SimulatorSummary reference;
+    // The reference's own row, compared as its baseline run streams (the
+    // reference is run once, not again for its row), when the request has it.
+    std::optional<ComparedRun> reference_row;
 };
 // Writes the trajectory if the request asks; an exception is a failed run.
 // Public for bench/bench_comparison.cpp, which times it against the
