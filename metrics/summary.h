@@ -99,8 +99,12 @@ struct WallLimits {
 // velocities for about 1e5 states; that square was 40% of the recorder).
 template <int D = 3>
 double specific_energy(const State& s, const Vec3& gravity) {
-    const auto squares_to_zero = [](double x) { return std::abs(x) < 0x1p-538 ? 0.0 : x; };
-    double energy = 0.5 * s.v.head<D>().unaryExpr(squares_to_zero).squaredNorm();
+    // A plain vector, not an expression: squaredNorm then sums in the same
+    // order as for s.v (an expression can change Eigen's traversal, and the
+    // last bit).
+    Vec3 v = s.v;
+    for (int i = 0; i < D; ++i) v[i] = std::abs(v[i]) < 0x1p-538 ? 0.0 : v[i];
+    double energy = 0.5 * v.head<D>().squaredNorm();
     for (int i = 0; i < D; ++i) energy -= gravity[i] * s.p[i];
     return energy;
 }

@@ -66,6 +66,28 @@ TEST(TraceDecimator, JitterDoesNotGrowTheTraceWithoutBound) {
     EXPECT_LE(trace.size(), 600u + kPlotTurningPoints + 2);
 }
 
+// The reversal screen reads signs and zeros from the bits: a subnormal
+// velocity that changes sign or becomes zero is a turning point; one whose
+// product with the next underflows to zero without a sign change is not,
+// nor is a component that was already zero.
+TEST(TraceDecimator, KeepsReversalsOfSubnormalVelocitiesAndNoOtherTinyChange) {
+    const double tiny = 1e-310, underflowing = 1e-200;  // tiny subnormal; underflowing^2 rounds to 0
+    const Vec3 velocities[] = {{tiny, 1, 0},  {2 * tiny, 1, 0}, {-tiny, 1, 0},     {-0x1p-1074, 1, 0},
+                               {0.0, 1, 0},   {-0.0, 1, 0},     {underflowing, 1, 0}, {underflowing, 1, 0},
+                               {2 * underflowing, 1, 0}};
+    TraceDecimator decimator(1'000'000, 600);  // a stride far beyond these states
+    for (std::size_t i = 0; i < std::size(velocities); ++i) {
+        State st;
+        st.t = static_cast<double>(i);
+        st.v = velocities[i];
+        decimator.write(st);
+    }
+    const PlotTrace trace = decimator.finish();
+    // 0: the first state; 2 and 4 turn (sign, then zero), each with the
+    // state before it; 8: the last.
+    EXPECT_EQ(trace.t, (std::vector<double>{0, 1, 2, 3, 4, 8}));
+}
+
 TEST(WindowMaxSeries, KeepsTheLargestValueOfEachWindowWithItsTime) {
     WindowMaxSeries series(4);
     const double values[] = {1, 5, 2, 3, /**/ 0.5, 0.1, 9, 0.2, /**/ 7};

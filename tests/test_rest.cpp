@@ -9,6 +9,11 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <random>
+
 namespace bouncecheck {
 namespace {
 
@@ -20,6 +25,36 @@ State on_floor(double t, double height, double vz) {
     s.p = {0.5, 0.5, 0.05 + height};
     s.v = {0.0, 0.0, vz};
     return s;
+}
+
+// The recorder's energy squares a velocity component below 2^-538 as 0
+// (the hardware's square of it is +0), sparing the slow path of subnormal
+// products: the same bits as squaring every component, here for components
+// of every size, around the 2^-538 boundary, subnormal, zero and signed.
+TEST(SpecificEnergy, TinyVelocitiesGiveTheBitsOfSquaringEveryComponent) {
+    std::mt19937_64 random(20261128);
+    std::uniform_int_distribution<int> exponent(-1074, 2);
+    std::uniform_real_distribution<double> mantissa(1.0, 2.0);
+    const double boundary = 0x1p-538;
+    const double specials[] = {0.0, -0.0, boundary, std::nextafter(boundary, 0.0), std::nextafter(boundary, 1.0),
+                               0x1p-537, 0x1p-1074, 0x1p-1022, 0x1p-511, 0x1.6a09e667f3bcdp-538};
+    auto component = [&](std::uint64_t pick) {
+        double x = pick % 3 == 0 ? specials[random() % std::size(specials)]
+                                 : std::ldexp(mantissa(random), exponent(random));
+        return (random() & 1) ? -x : x;
+    };
+    for (int i = 0; i < 200'000; ++i) {
+        // Without gravity the energy is the squares alone: a tiny square
+        // that should count shows.
+        const Vec3 gravity = i % 2 ? Vec3(0.0, 0.0, -0.0981) : Vec3::Zero();
+        State s;
+        s.p = {0.5, 0.05, 0.05 + 1e-3 * (i % 7)};
+        s.v = {component(random()), component(random()), component(random())};
+        const double expected = 0.5 * s.v.squaredNorm() - gravity[0] * s.p[0] - gravity[1] * s.p[1] -
+                                gravity[2] * s.p[2];
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(specific_energy<3>(s, gravity)), std::bit_cast<std::uint64_t>(expected))
+            << s.v.transpose();
+    }
 }
 
 TEST(StreamRecorderRest, RestStartsWhereTheBallStaysDown) {
