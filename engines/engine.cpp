@@ -95,9 +95,14 @@ namespace {
 
 class DefinedEngineSimulator final : public EngineSimulator {
 public:
-    explicit DefinedEngineSimulator(EngineDefinition d) : d_(std::move(d)) {}
-    std::string_view name() const override { return d_.name; }
-    std::string_view description() const override { return d_.description; }
+    explicit DefinedEngineSimulator(EngineDefinition d)
+        : name_(d.identity.name), description_(d.identity.description), d_(std::move(d)) {
+        d_.identity.name = name_;
+        d_.identity.description = description_;
+    }
+    std::string_view name() const override { return d_.identity.name; }
+    std::string_view description() const override { return d_.identity.description; }
+    double typical_ns_per_step() const override { return d_.identity.typical_ns_per_step; }
     EngineCapabilities capabilities() const override { return d_.capabilities; }
 
 protected:
@@ -107,6 +112,7 @@ protected:
     }
 
 private:
+    std::string name_, description_;  // what the identity views: it may have viewed a caller's strings
     EngineDefinition d_;
 };
 

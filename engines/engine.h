@@ -12,6 +12,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace bouncecheck {
@@ -23,7 +24,15 @@ struct EngineCapabilities {
     bool planar_2d_in_3d = false;  // 2D runs as a 3D body locked to the x-z plane
     bool per_contact_hook = true;  // supports TangentialModel::per_contact
     std::string precision;         // "double", "float"
-    double typical_ns_per_step = 1000;  // Simulator::typical_ns_per_step
+};
+
+// What an engine is, known without loading it: the registry
+// (registry/engine_module.h) answers these from the adapter's header and
+// loads the adapter's module only when a run needs the engine itself.
+struct EngineIdentity {
+    std::string_view name;
+    std::string_view description;
+    double typical_ns_per_step;  // Simulator::typical_ns_per_step
 };
 
 // Lengths and times in the engine's world: x_engine = x * length, t_engine = t * time.
@@ -83,7 +92,6 @@ public:
     std::optional<std::string> cannot_run(const Scenario& s) const override;
     RunOutcome run(const Scenario& s, RunSink& sink) const final;
     bool third_party() const final { return true; }
-    double typical_ns_per_step() const final { return capabilities().typical_ns_per_step; }
 
     virtual EngineCapabilities capabilities() const = 0;
 
@@ -105,9 +113,9 @@ protected:
 
 // An engine adapter described by data: what it is, what it can run, and how
 // it builds its world. Every adapter is one of these; only `build` differs.
+// make_engine_simulator copies the identity's name and description.
 struct EngineDefinition {
-    std::string name;
-    std::string description;
+    EngineIdentity identity;
     EngineCapabilities capabilities;
     std::function<std::unique_ptr<EngineWorld>(const Scenario&, const EngineOptions&,
                                                std::vector<Setting>&)>

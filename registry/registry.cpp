@@ -2,6 +2,7 @@
 
 #include "exact/exact_simulator.h"
 #include "reference/reference_simulator.h"
+#include "registry/engine_module.h"
 #ifdef BOUNCECHECK_WITH_BULLET
 #include "engines/bullet/bullet_adapter.h"
 #endif
@@ -31,26 +32,28 @@ std::vector<std::unique_ptr<const Simulator>> built_simulators() {
     all.push_back(make_reference_simulator());
     all.push_back(make_exact_simulator());
 #ifdef BOUNCECHECK_WITH_BULLET
-    all.push_back(make_bullet_simulator());
+    all.push_back(engine_in_module(bullet::kIdentity, "bouncecheck-engine-bullet.so", "bouncecheck_engine_bullet"));
 #endif
 #ifdef BOUNCECHECK_WITH_ODE
-    all.push_back(make_ode_simulator());
+    all.push_back(engine_in_module(ode::kIdentity, "bouncecheck-engine-ode.so", "bouncecheck_engine_ode"));
 #endif
 #ifdef BOUNCECHECK_WITH_BOX2D
-    all.push_back(make_box2d_simulator());
+    all.push_back(engine_in_module(box2d::kIdentity, "bouncecheck-engine-box2d.so", "bouncecheck_engine_box2d"));
 #endif
 #ifdef BOUNCECHECK_WITH_MUJOCO
-    all.push_back(make_mujoco_simulator());
+    all.push_back(engine_in_module(mujoco::kIdentity, "bouncecheck-engine-mujoco.so", "bouncecheck_engine_mujoco"));
 #endif
 #ifdef BOUNCECHECK_WITH_CHIPMUNK
-    all.push_back(make_chipmunk_simulator());
+    all.push_back(engine_in_module(chipmunk::kIdentity, "bouncecheck-engine-chipmunk.so", "bouncecheck_engine_chipmunk"));
 #endif
 #ifdef BOUNCECHECK_WITH_SICONOS
-    all.push_back(make_siconos_simulator());
-    all.push_back(make_siconos_event_driven_simulator());
+    all.push_back(engine_in_module(siconos::kTimeSteppingIdentity, "bouncecheck-engine-siconos.so",
+                                   "bouncecheck_engine_siconos"));
+    all.push_back(engine_in_module(siconos::kEventDrivenIdentity, "bouncecheck-engine-siconos.so",
+                                   "bouncecheck_engine_siconos_ed"));
 #endif
 #ifdef BOUNCECHECK_WITH_DART
-    all.push_back(make_dart_simulator());
+    all.push_back(engine_in_module(dartsim::kIdentity, "bouncecheck-engine-dart.so", "bouncecheck_engine_dart"));
 #endif
     return all;
 }

@@ -15,7 +15,8 @@ FLAGS+=" -Wno-maybe-uninitialized"
 # setup.sh installs what is missing; RelWithDebInfo keeps the suite's speed
 # and gives reports file and line.
 BUILD_DIR="$BUILD_DIR" BUILD_TYPE=RelWithDebInfo "$ROOT/scripts/setup.sh" \
-  -DCMAKE_CXX_FLAGS="$FLAGS" -DCMAKE_EXE_LINKER_FLAGS="$FLAGS" -DCMAKE_SHARED_LINKER_FLAGS="$FLAGS"
+  -DCMAKE_CXX_FLAGS="$FLAGS" -DCMAKE_EXE_LINKER_FLAGS="$FLAGS" -DCMAKE_SHARED_LINKER_FLAGS="$FLAGS" \
+  -DCMAKE_MODULE_LINKER_FLAGS="$FLAGS"
 
 # Exit status 99 on a report, which no bouncecheck status (0-3) can be
 # mistaken for by the CLI tests.

@@ -32,8 +32,7 @@ Scenario seed3d() {
 // A stand-in engine: the reference model of a modified scenario, its centre shifted by `offset`.
 std::unique_ptr<const Simulator> shifted_reference(const std::string& name, Vec3 offset, double alpha = -1) {
     EngineDefinition d;
-    d.name = name;
-    d.description = "test stand-in";
+    d.identity = {name, "test stand-in", 1000};
     d.build = [offset, alpha](const Scenario& s, const EngineOptions&,
                               std::vector<Setting>&) -> std::unique_ptr<EngineWorld> {
         struct World final : EngineWorld {

@@ -114,8 +114,8 @@ double effective_mu(const Scenario& s, const test::FloorHit& h) {
 // ---------------------------------------------------------------- capabilities
 
 TEST(SiconosCapabilities, TwoSimulatorsBothDimensionsSerial) {
-    for (const char* name : {"siconos", "siconos-ed"}) {
-        const auto sim = test::find_simulator(name);
+    for (const auto& sim : {make_siconos_simulator(), make_siconos_event_driven_simulator()}) {
+        const std::string name(sim->name());
         const auto* engine = dynamic_cast<const EngineSimulator*>(sim.get());
         ASSERT_NE(engine, nullptr) << name;
         const EngineCapabilities caps = engine->capabilities();

@@ -293,12 +293,11 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
     EngineCapabilities caps;
     caps.runs_3d = false;
     caps.precision = "float";
-    caps.typical_ns_per_step = 890;
     // Box2D 2.4 counts GJK and TOI calls in unsynchronised globals
     // (b2_gjkCalls, b2_toiCalls): one world at a time per process, as every
     // pair runs in a worker process of its own (platform/parallel_pairs.h).
     return make_engine_simulator(
-        {"box2d", "Box2D 2.4.1 (2D, float): dynamic circle in four static boxes, scaled so the ball is 1 m", caps,
+        {kIdentity, caps,
          [tuning](const Scenario& s, const EngineOptions& options, std::vector<Setting>& settings)
              -> std::unique_ptr<EngineWorld> { return build_world(s, options, tuning, settings); }});
 }
@@ -308,3 +307,9 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
 std::unique_ptr<const Simulator> make_box2d_simulator() { return box2d::make_simulator(box2d::Tuning{}); }
 
 }  // namespace bouncecheck
+
+// The entry the registry looks up when it loads this adapter's module
+// (registry/engine_module.h).
+extern "C" const bouncecheck::Simulator* bouncecheck_engine_box2d() {
+    return bouncecheck::make_box2d_simulator().release();
+}

@@ -11,6 +11,11 @@
 
 namespace bouncecheck::box2d {
 
+// What the registry reports without loading the adapter's module.
+inline constexpr EngineIdentity kIdentity{
+    "box2d", "Box2D 2.4.1 (2D, float): dynamic circle in four static boxes, scaled so the ball is 1 m",
+    890};
+
 struct Tuning {
     // Engine length per scenario length; 0 means 1 / radius (the ball is 1 m in
     // the engine). Box2D default: none (1, the 5 cm ball against 5 mm of slop).

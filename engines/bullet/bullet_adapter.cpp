@@ -432,10 +432,8 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
     EngineCapabilities caps;
     caps.planar_2d_in_3d = true;
     caps.precision = "double";
-    caps.typical_ns_per_step = 1490;
     return make_engine_simulator(
-        {"bullet", "Bullet 3.24 (double): sphere in six static planes, sequential-impulse solver, one step of dt",
-         caps, [tuning](const Scenario& s, const EngineOptions& options, std::vector<Setting>& settings)
+        {kIdentity, caps, [tuning](const Scenario& s, const EngineOptions& options, std::vector<Setting>& settings)
              -> std::unique_ptr<EngineWorld> { return build_world(s, options, tuning, settings); }});
 }
 
@@ -444,3 +442,9 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
 std::unique_ptr<const Simulator> make_bullet_simulator() { return bullet::make_simulator(bullet::Tuning::chosen()); }
 
 }  // namespace bouncecheck
+
+// The entry the registry looks up when it loads this adapter's module
+// (registry/engine_module.h).
+extern "C" const bouncecheck::Simulator* bouncecheck_engine_bullet() {
+    return bouncecheck::make_bullet_simulator().release();
+}

@@ -14,6 +14,11 @@
 
 namespace bouncecheck::bullet {
 
+// What the registry reports without loading the adapter's module.
+inline constexpr EngineIdentity kIdentity{
+    "bullet", "Bullet 3.24 (double): sphere in six static planes, sequential-impulse solver, one step of dt",
+    1490};
+
 // How each step is asked of btDiscreteDynamicsWorld::stepSimulation.
 enum class Stepping {
     single_step,     // stepSimulation(dt, 0): exactly one internal step of dt (chosen)

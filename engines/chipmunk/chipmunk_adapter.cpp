@@ -326,12 +326,11 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
     EngineCapabilities caps;
     caps.runs_3d = false;
     caps.precision = "double";
-    caps.typical_ns_per_step = 280;
     // After library_check() no global state of Chipmunk 7.0.3 is written by
     // creating or stepping a space (cpSpaceInit's banner flag is the only
     // writable static in the library; shape ids and every buffer are per space).
     return make_engine_simulator(
-        {"chipmunk", "Chipmunk2D 7.0.3 (2D, double): dynamic circle in four static thick segments", caps,
+        {kIdentity, caps,
          [tuning](const Scenario& s, const EngineOptions& options, std::vector<Setting>& settings)
              -> std::unique_ptr<EngineWorld> { return build_world(s, options, tuning, settings); }});
 }
@@ -341,3 +340,9 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
 std::unique_ptr<const Simulator> make_chipmunk_simulator() { return chipmunk::make_simulator(chipmunk::Tuning{}); }
 
 }  // namespace bouncecheck
+
+// The entry the registry looks up when it loads this adapter's module
+// (registry/engine_module.h).
+extern "C" const bouncecheck::Simulator* bouncecheck_engine_chipmunk() {
+    return bouncecheck::make_chipmunk_simulator().release();
+}

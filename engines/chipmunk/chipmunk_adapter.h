@@ -12,6 +12,11 @@
 
 namespace bouncecheck::chipmunk {
 
+// What the registry reports without loading the adapter's module.
+inline constexpr EngineIdentity kIdentity{
+    "chipmunk", "Chipmunk2D 7.0.3 (2D, double): dynamic circle in four static thick segments",
+    280};
+
 // Where the per-contact hook scales the tangential velocity by beta.
 enum class PerContactCallback {
     begin,      // cpCollisionHandler::beginFunc: once, the step a contact starts

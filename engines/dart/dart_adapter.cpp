@@ -449,15 +449,12 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
     EngineCapabilities caps;
     caps.planar_2d_in_3d = true;
     caps.precision = "double";
-    caps.typical_ns_per_step = 4450;
     // DART 6.12 keeps ContactConstraint's error reduction parameter, max
     // error reduction velocity, error allowance and constraint force mixing in
     // static members, written by every world before its step: one world steps
     // at a time per process (each pair runs in a worker process of its own).
     return make_engine_simulator(
-        {"dart", "DART 6.12 (double): sphere in six fixed boxes, DARTCollisionDetector, Dantzig LCP, length scale "
-                 "from dt and g",
-         caps, [tuning](const Scenario& s, const EngineOptions& options, std::vector<Setting>& settings)
+        {kIdentity, caps, [tuning](const Scenario& s, const EngineOptions& options, std::vector<Setting>& settings)
              -> std::unique_ptr<EngineWorld> { return build_world(s, options, tuning, settings); }});
 }
 
@@ -466,3 +463,9 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
 std::unique_ptr<const Simulator> make_dart_simulator() { return dartsim::make_simulator(dartsim::Tuning{}); }
 
 }  // namespace bouncecheck
+
+// The entry the registry looks up when it loads this adapter's module
+// (registry/engine_module.h).
+extern "C" const bouncecheck::Simulator* bouncecheck_engine_dart() {
+    return bouncecheck::make_dart_simulator().release();
+}

@@ -17,6 +17,12 @@
 // DART's own ::dart.
 namespace bouncecheck::dartsim {
 
+// What the registry reports without loading the adapter's module.
+inline constexpr EngineIdentity kIdentity{
+    "dart", "DART 6.12 (double): sphere in six fixed boxes, DARTCollisionDetector, Dantzig LCP, length scale "
+                 "from dt and g",
+    4450};
+
 enum class Detector {
     dart,            // DARTCollisionDetector: analytic sphere-box (chosen)
     fcl_primitive,   // FCL with FCLCollisionDetector::PRIMITIVE (analytic sphere)

@@ -645,10 +645,8 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
     EngineCapabilities caps;
     caps.planar_2d_in_3d = true;
     caps.precision = "double";
-    caps.typical_ns_per_step = 1390;
     return make_engine_simulator(
-        {"mujoco", "MuJoCo 2.2.2 (double): sphere on slide joints in six planes, one-step damper contacts, Euler",
-         caps, [tuning](const Scenario& s, const EngineOptions& options, std::vector<Setting>& settings)
+        {kIdentity, caps, [tuning](const Scenario& s, const EngineOptions& options, std::vector<Setting>& settings)
              -> std::unique_ptr<EngineWorld> { return build_world(s, options, tuning, settings); }});
 }
 
@@ -657,3 +655,9 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
 std::unique_ptr<const Simulator> make_mujoco_simulator() { return mujoco::make_simulator(mujoco::Tuning::chosen()); }
 
 }  // namespace bouncecheck
+
+// The entry the registry looks up when it loads this adapter's module
+// (registry/engine_module.h).
+extern "C" const bouncecheck::Simulator* bouncecheck_engine_mujoco() {
+    return bouncecheck::make_mujoco_simulator().release();
+}

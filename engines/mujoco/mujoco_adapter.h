@@ -17,6 +17,11 @@
 
 namespace bouncecheck::mujoco {
 
+// What the registry reports without loading the adapter's module.
+inline constexpr EngineIdentity kIdentity{
+    "mujoco", "MuJoCo 2.2.2 (double): sphere on slide joints in six planes, one-step damper contacts, Euler",
+    1390};
+
 // How a ball-wall contact bounces. MuJoCo has no restitution coefficient: a
 // contact row's reference acceleration is aref = -b v - k x (solref in the
 // direct format (-k, -b), x the penetration, v the normal velocity), reached

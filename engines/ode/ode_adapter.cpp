@@ -354,15 +354,13 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
     EngineCapabilities caps;
     caps.planar_2d_in_3d = true;  // ODE's planar joint keeps ODE's x-y plane (see the file comment)
     caps.precision = "double";
-    caps.typical_ns_per_step = 990;
     // Debian's libode 0.16 is built without ODE_EXT_ou (no thread-local
     // collision data): dAllocateODEDataForThread does not make its global
     // state per thread, so two ODE worlds must not step at the same time in
     // one process. None do: run, sweep and stress run each pair in a worker
     // process of its own (platform/parallel_pairs.h).
     return make_engine_simulator(
-        {"ode", "Open Dynamics Engine 0.16 (double): sphere vs static planes, contact joints with bounce, dWorldStep",
-         caps, [tuning](const Scenario& s, const EngineOptions& options, std::vector<Setting>& settings)
+        {kIdentity, caps, [tuning](const Scenario& s, const EngineOptions& options, std::vector<Setting>& settings)
              -> std::unique_ptr<EngineWorld> { return build_world(s, options, tuning, settings); }});
 }
 
@@ -371,3 +369,9 @@ std::unique_ptr<const Simulator> make_simulator(const Tuning& tuning) {
 std::unique_ptr<const Simulator> make_ode_simulator() { return ode::make_simulator(ode::Tuning::chosen()); }
 
 }  // namespace bouncecheck
+
+// The entry the registry looks up when it loads this adapter's module
+// (registry/engine_module.h).
+extern "C" const bouncecheck::Simulator* bouncecheck_engine_ode() {
+    return bouncecheck::make_ode_simulator().release();
+}

@@ -15,6 +15,11 @@
 
 namespace bouncecheck::ode {
 
+// What the registry reports without loading the adapter's module.
+inline constexpr EngineIdentity kIdentity{
+    "ode", "Open Dynamics Engine 0.16 (double): sphere vs static planes, contact joints with bounce, dWorldStep",
+    990};
+
 enum class Stepper {
     world_step,  // dWorldStep: Dantzig LCP, constraints solved exactly (chosen)
     quick_step,  // dWorldQuickStep: projected Gauss-Seidel/SOR, iterative

@@ -66,8 +66,6 @@ int limit_blas_threads() {
     return threads;
 }
 
-constexpr const char* kTimeSteppingName = "siconos";
-constexpr const char* kEventDrivenName = "siconos-ed";
 
 // Why two worlds must not step at once (checked in the 4.4.0 sources and in
 // the libraries' exported data symbols).
@@ -404,7 +402,7 @@ void SiconosWorld::report(const Scenario& s, const EngineOptions& options, std::
     } else {
         set("tangential_model", "friction", fmt::format("Coulomb mu = {} (the scenario's [engines.{}] friction)",
                                                         num(options.friction),
-                                                        event_driven_ ? kEventDrivenName : kTimeSteppingName));
+                                                        (event_driven_ ? kEventDrivenIdentity : kTimeSteppingIdentity).name));
     }
     set("rotation", e.dofs > s.dim ? "free" : (options.free_rotation ? "not modelled (no friction)" : "locked"),
         "scenario [engines.<name>] rotation");
@@ -422,19 +420,14 @@ void SiconosWorld::report(const Scenario& s, const EngineOptions& options, std::
 class SiconosSimulator final : public EngineSimulator {
 public:
     SiconosSimulator(const Tuning& t, bool event_driven) : tuning_(t), event_driven_(event_driven) {
-        limit_blas_threads();  // here, in the process that forks the workers: they inherit it
+        limit_blas_threads();  // once the module is loaded, before any world of this process
     }
-    std::string_view name() const override { return event_driven_ ? kEventDrivenName : kTimeSteppingName; }
-    std::string_view description() const override {
-        return event_driven_ ? "Siconos 4.4 event-driven (EventDriven + LsodarOSI): impacts at their exact instants, "
-                               "NewtonImpactNSL"
-                             : "Siconos 4.4 time-stepping (TimeStepping + MoreauJeanOSI theta 0.5, LCP / "
-                               "FrictionContact), NewtonImpactNSL";
-    }
+    std::string_view name() const override { return identity().name; }
+    std::string_view description() const override { return identity().description; }
+    double typical_ns_per_step() const override { return identity().typical_ns_per_step; }
     EngineCapabilities capabilities() const override {
         EngineCapabilities caps;
         caps.precision = "double";
-        caps.typical_ns_per_step = event_driven_ ? 7500 : 7000;
         return caps;
     }
     std::optional<std::string> cannot_run(const Scenario& s) const override {
@@ -455,6 +448,8 @@ protected:
     }
 
 private:
+    const EngineIdentity& identity() const { return event_driven_ ? kEventDrivenIdentity : kTimeSteppingIdentity; }
+
     Tuning tuning_;
     bool event_driven_;
 };
@@ -482,3 +477,12 @@ std::unique_ptr<const Simulator> make_siconos_event_driven_simulator() {
 }
 
 }  // namespace bouncecheck
+
+// The entries the registry looks up when it loads this adapters' module
+// (registry/engine_module.h).
+extern "C" const bouncecheck::Simulator* bouncecheck_engine_siconos() {
+    return bouncecheck::make_siconos_simulator().release();
+}
+extern "C" const bouncecheck::Simulator* bouncecheck_engine_siconos_ed() {
+    return bouncecheck::make_siconos_event_driven_simulator().release();
+}

@@ -19,6 +19,15 @@
 
 namespace bouncecheck::siconos {
 
+// What the registry reports without loading the adapters' module.
+inline constexpr EngineIdentity kTimeSteppingIdentity{
+    "siconos",
+    "Siconos 4.4 time-stepping (TimeStepping + MoreauJeanOSI theta 0.5, LCP / FrictionContact), NewtonImpactNSL",
+    7000};
+inline constexpr EngineIdentity kEventDrivenIdentity{
+    "siconos-ed",
+    "Siconos 4.4 event-driven (EventDriven + LsodarOSI): impacts at their exact instants, NewtonImpactNSL", 7500};
+
 struct Tuning {
     // --- MoreauJeanOSI (siconos)
     // theta of the theta-method: q+ = q + h ((1 - theta) v + theta v+).

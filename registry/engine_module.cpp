@@ -1,0 +1,79 @@
+#include "registry/engine_module.h"
+
+#include <dlfcn.h>
+#include <fmt/format.h>
+
+#include <map>
+#include <mutex>
+#include <string>
+#include <utility>
+#include <variant>
+
+namespace bouncecheck {
+namespace {
+
+// The loaded engine, or why there is none. Modules are never unloaded: a
+// loaded engine lives as long as the process.
+using Loaded = std::variant<const Simulator*, std::string>;
+
+Loaded load(std::string_view module, std::string_view entry) {
+    const std::string path = fmt::format("{}/{}", BOUNCECHECK_ENGINE_MODULE_DIR, module);
+    // RTLD_NOW: a symbol missing from the module fails here, with its name,
+    // not in the middle of a run.
+    void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!handle) return fmt::format("cannot load the engine's module: {}", ::dlerror());
+    using Entry = const Simulator* (*)();
+    const auto make = reinterpret_cast<Entry>(::dlsym(handle, std::string(entry).c_str()));
+    if (!make) return fmt::format("the engine's module {} has no entry {}", path, entry);
+    return make();
+}
+
+// One load per module and entry and process, whichever thread asks first.
+const Loaded& loaded(const std::string& module, const std::string& entry) {
+    static std::mutex mutex;
+    static std::map<std::pair<std::string, std::string>, Loaded> engines;
+    const std::lock_guard lock(mutex);
+    auto it = engines.find({module, entry});
+    if (it == engines.end()) it = engines.emplace(std::pair{module, entry}, load(module, entry)).first;
+    return it->second;
+}
+
+class EngineInModule final : public Simulator {
+public:
+    EngineInModule(const EngineIdentity& identity, std::string_view module, std::string_view entry)
+        : identity_(identity), module_(module), entry_(entry) {}
+
+    std::string_view name() const override { return identity_.name; }
+    std::string_view description() const override { return identity_.description; }
+    bool third_party() const override { return true; }
+    double typical_ns_per_step() const override { return identity_.typical_ns_per_step; }
+
+    std::optional<std::string> cannot_run(const Scenario& s) const override {
+        const Loaded& engine = loaded(module_, entry_);
+        if (const auto* why = std::get_if<std::string>(&engine)) return *why;
+        return std::get<const Simulator*>(engine)->cannot_run(s);
+    }
+    RunOutcome run(const Scenario& s, RunSink& sink) const override {
+        const Loaded& engine = loaded(module_, entry_);
+        if (const auto* why = std::get_if<std::string>(&engine)) return {RunStatus::failed, *why, {}, 0};
+        return std::get<const Simulator*>(engine)->run(s, sink);
+    }
+    UnrecordedRun run_unrecorded(const Scenario& s) const override {
+        const Loaded& engine = loaded(module_, entry_);
+        if (const auto* why = std::get_if<std::string>(&engine)) return {RunStatus::failed, *why, 0, {}, 0};
+        return std::get<const Simulator*>(engine)->run_unrecorded(s);
+    }
+
+private:
+    EngineIdentity identity_;
+    std::string module_, entry_;
+};
+
+}  // namespace
+
+std::unique_ptr<const Simulator> engine_in_module(const EngineIdentity& identity, std::string_view module,
+                                                  std::string_view entry) {
+    return std::make_unique<EngineInModule>(identity, module, entry);
+}
+
+}  // namespace bouncecheck
