@@ -6,26 +6,29 @@
 #include <map>
 #include <mutex>
 #include <string>
+#include <memory>
 #include <utility>
-#include <variant>
 
 namespace bouncecheck {
 namespace {
 
-// The loaded engine, or why there is none. Modules are never unloaded: a
-// loaded engine lives as long as the process.
-using Loaded = std::variant<const Simulator*, std::string>;
+// The loaded engine, or why there is none. Modules are never unloaded: the
+// engine's code stays mapped until the process ends.
+struct Loaded {
+    std::unique_ptr<const Simulator> engine;
+    std::string why_not;  // when there is no engine
+};
 
 Loaded load(std::string_view module, std::string_view entry) {
     const std::string path = fmt::format("{}/{}", BOUNCECHECK_ENGINE_MODULE_DIR, module);
     // RTLD_NOW: a symbol missing from the module fails here, with its name,
     // not in the middle of a run.
     void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (!handle) return fmt::format("cannot load the engine's module: {}", ::dlerror());
+    if (!handle) return {nullptr, fmt::format("cannot load the engine's module: {}", ::dlerror())};
     using Entry = const Simulator* (*)();
     const auto make = reinterpret_cast<Entry>(::dlsym(handle, std::string(entry).c_str()));
-    if (!make) return fmt::format("the engine's module {} has no entry {}", path, entry);
-    return make();
+    if (!make) return {nullptr, fmt::format("the engine's module {} has no entry {}", path, entry)};
+    return {std::unique_ptr<const Simulator>(make()), {}};
 }
 
 // One load per module and entry and process, whichever thread asks first.
@@ -49,19 +52,19 @@ public:
     double typical_ns_per_step() const override { return identity_.typical_ns_per_step; }
 
     std::optional<std::string> cannot_run(const Scenario& s) const override {
-        const Loaded& engine = loaded(module_, entry_);
-        if (const auto* why = std::get_if<std::string>(&engine)) return *why;
-        return std::get<const Simulator*>(engine)->cannot_run(s);
+        const Loaded& loaded_engine = loaded(module_, entry_);
+        if (!loaded_engine.engine) return loaded_engine.why_not;
+        return loaded_engine.engine->cannot_run(s);
     }
     RunOutcome run(const Scenario& s, RunSink& sink) const override {
-        const Loaded& engine = loaded(module_, entry_);
-        if (const auto* why = std::get_if<std::string>(&engine)) return {RunStatus::failed, *why, {}, 0};
-        return std::get<const Simulator*>(engine)->run(s, sink);
+        const Loaded& loaded_engine = loaded(module_, entry_);
+        if (!loaded_engine.engine) return {RunStatus::failed, loaded_engine.why_not, {}, 0};
+        return loaded_engine.engine->run(s, sink);
     }
     UnrecordedRun run_unrecorded(const Scenario& s) const override {
-        const Loaded& engine = loaded(module_, entry_);
-        if (const auto* why = std::get_if<std::string>(&engine)) return {RunStatus::failed, *why, 0, {}, 0};
-        return std::get<const Simulator*>(engine)->run_unrecorded(s);
+        const Loaded& loaded_engine = loaded(module_, entry_);
+        if (!loaded_engine.engine) return {RunStatus::failed, loaded_engine.why_not, 0, {}, 0};
+        return loaded_engine.engine->run_unrecorded(s);
     }
 
 private:
