@@ -3,10 +3,11 @@
 #include <dlfcn.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <map>
 #include <mutex>
-#include <string>
 #include <memory>
+#include <string>
 #include <utility>
 
 namespace bouncecheck {
@@ -43,8 +44,12 @@ const Loaded& loaded(const std::string& module, const std::string& entry) {
 
 class EngineInModule final : public Simulator {
 public:
-    EngineInModule(const EngineIdentity& identity, std::string_view module, std::string_view entry)
-        : identity_(identity), module_(module), entry_(entry) {}
+    EngineInModule(const EngineIdentity& identity, std::string_view folder)
+        : identity_(identity),
+          module_(fmt::format("bouncecheck-engine-{}.so", folder)),
+          entry_(fmt::format("bouncecheck_engine_{}", identity.name)) {
+        std::replace(entry_.begin(), entry_.end(), '-', '_');
+    }
 
     std::string_view name() const override { return identity_.name; }
     std::string_view description() const override { return identity_.description; }
@@ -74,9 +79,8 @@ private:
 
 }  // namespace
 
-std::unique_ptr<const Simulator> engine_in_module(const EngineIdentity& identity, std::string_view module,
-                                                  std::string_view entry) {
-    return std::make_unique<EngineInModule>(identity, module, entry);
+std::unique_ptr<const Simulator> engine_in_module(const EngineIdentity& identity, std::string_view folder) {
+    return std::make_unique<EngineInModule>(identity, folder);
 }
 
 }  // namespace bouncecheck

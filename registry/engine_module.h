@@ -16,11 +16,11 @@
 
 namespace bouncecheck {
 
-// The engine `identity` whose adapter is in `module` (a file name in the
-// build's engine folder), made by the module's extern "C" function `entry`.
-// If the module cannot be loaded, or has no such engine, the engine cannot
-// run anything, and says why.
-std::unique_ptr<const Simulator> engine_in_module(const EngineIdentity& identity, std::string_view module,
-                                                  std::string_view entry);
+// The engine `identity` whose adapter is in engines/`folder`/: its module is
+// bouncecheck-engine-<folder>.so in the build's engine folder, and the
+// module's extern "C" function bouncecheck_engine_<name> (a '-' in the name
+// as '_') makes it. If the module cannot be loaded, or has no such entry,
+// the engine cannot run anything, and says why.
+std::unique_ptr<const Simulator> engine_in_module(const EngineIdentity& identity, std::string_view folder);
 
 }  // namespace bouncecheck

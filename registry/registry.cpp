@@ -32,28 +32,26 @@ std::vector<std::unique_ptr<const Simulator>> built_simulators() {
     all.push_back(make_reference_simulator());
     all.push_back(make_exact_simulator());
 #ifdef BOUNCECHECK_WITH_BULLET
-    all.push_back(engine_in_module(bullet::kIdentity, "bouncecheck-engine-bullet.so", "bouncecheck_engine_bullet"));
+    all.push_back(engine_in_module(bullet::kIdentity, "bullet"));
 #endif
 #ifdef BOUNCECHECK_WITH_ODE
-    all.push_back(engine_in_module(ode::kIdentity, "bouncecheck-engine-ode.so", "bouncecheck_engine_ode"));
+    all.push_back(engine_in_module(ode::kIdentity, "ode"));
 #endif
 #ifdef BOUNCECHECK_WITH_BOX2D
-    all.push_back(engine_in_module(box2d::kIdentity, "bouncecheck-engine-box2d.so", "bouncecheck_engine_box2d"));
+    all.push_back(engine_in_module(box2d::kIdentity, "box2d"));
 #endif
 #ifdef BOUNCECHECK_WITH_MUJOCO
-    all.push_back(engine_in_module(mujoco::kIdentity, "bouncecheck-engine-mujoco.so", "bouncecheck_engine_mujoco"));
+    all.push_back(engine_in_module(mujoco::kIdentity, "mujoco"));
 #endif
 #ifdef BOUNCECHECK_WITH_CHIPMUNK
-    all.push_back(engine_in_module(chipmunk::kIdentity, "bouncecheck-engine-chipmunk.so", "bouncecheck_engine_chipmunk"));
+    all.push_back(engine_in_module(chipmunk::kIdentity, "chipmunk"));
 #endif
 #ifdef BOUNCECHECK_WITH_SICONOS
-    all.push_back(engine_in_module(siconos::kTimeSteppingIdentity, "bouncecheck-engine-siconos.so",
-                                   "bouncecheck_engine_siconos"));
-    all.push_back(engine_in_module(siconos::kEventDrivenIdentity, "bouncecheck-engine-siconos.so",
-                                   "bouncecheck_engine_siconos_ed"));
+    all.push_back(engine_in_module(siconos::kTimeSteppingIdentity, "siconos"));
+    all.push_back(engine_in_module(siconos::kEventDrivenIdentity, "siconos"));
 #endif
 #ifdef BOUNCECHECK_WITH_DART
-    all.push_back(engine_in_module(dartsim::kIdentity, "bouncecheck-engine-dart.so", "bouncecheck_engine_dart"));
+    all.push_back(engine_in_module(dartsim::kIdentity, "dart"));
 #endif
     return all;
 }

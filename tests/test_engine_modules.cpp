@@ -4,6 +4,7 @@
 // no engine library, and a module that cannot be loaded costs only its engine.
 #include "registry/engine_module.h"
 #include "registry/registry.h"
+#include "tests/support/cli.h"
 #include "tests/support/engine_tests.h"
 #include "tests/support/test_directory.h"
 
@@ -31,9 +32,7 @@
 
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
-#include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <map>
 
@@ -106,20 +105,15 @@ TEST(EngineModules, EachRegisteredEngineRunsItsOwnAdapter) {
 
 class EngineModulesCli : public test::TestDirectory {
 protected:
-    // What the dynamic loader reported loading (LD_DEBUG=files) while
-    // `bouncecheck run SCENARIO --engines ENGINES` ran, in its worker processes too.
+    // What `bouncecheck run SCENARIO --engines ENGINES` printed, with what the dynamic loader
+    // reported loading (LD_DEBUG=files), in its worker processes too.
     std::string libraries_loaded_by_run(const std::string& scenario, const std::string& engines) const {
-        const std::string cmd = "LD_DEBUG=files " + std::string(BOUNCECHECK_CLI) + " run " +
-                                std::string(BOUNCECHECK_SCENARIO_DIR) + "/" + scenario + " --engines " + engines +
-                                " --out " + (dir_ / engines).string() + " 2>&1 >/dev/null";
-        std::string out;
-        FILE* pipe = ::popen(cmd.c_str(), "r");
-        if (!pipe) return out;
-        char buf[4096];
-        for (size_t n; (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) out.append(buf, n);
-        const int raw = ::pclose(pipe);
-        EXPECT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << cmd << "\n" << out;
-        return out;
+        ::setenv("LD_DEBUG", "files", 1);
+        const test::CliResult r = test::bouncecheck("run " + std::string(BOUNCECHECK_SCENARIO_DIR) + "/" + scenario +
+                                                    " --engines " + engines + " --out " + (dir_ / engines).string());
+        ::unsetenv("LD_DEBUG");
+        EXPECT_EQ(r.status, 0) << r.output;
+        return r.output;
     }
 };
 
@@ -145,7 +139,7 @@ TEST(EngineModules, AnEngineWhoseModuleCannotBeLoadedSaysWhy) {
     const Scenario s = test::bundled_seed("seed-3d.toml");
     const EngineIdentity ghost{"ghost", "no such engine", 100};
 
-    const auto missing = engine_in_module(ghost, "bouncecheck-engine-ghost.so", "bouncecheck_engine_ghost");
+    const auto missing = engine_in_module(ghost, "ghost");
     EXPECT_EQ(missing->name(), "ghost");
     EXPECT_EQ(missing->description(), "no such engine");
     EXPECT_EQ(missing->typical_ns_per_step(), 100);
@@ -166,7 +160,7 @@ TEST(EngineModules, AnEngineWhoseModuleCannotBeLoadedSaysWhy) {
     EXPECT_EQ(unrecorded.reason, *why);
 
 #ifdef BOUNCECHECK_WITH_ODE
-    const auto no_entry = engine_in_module(ghost, "bouncecheck-engine-ode.so", "bouncecheck_engine_ghost");
+    const auto no_entry = engine_in_module(ghost, "ode");
     const auto no_entry_why = no_entry->cannot_run(s);
     ASSERT_TRUE(no_entry_why.has_value());
     EXPECT_NE(no_entry_why->find("has no entry bouncecheck_engine_ghost"), std::string::npos) << *no_entry_why;
