@@ -106,7 +106,17 @@ WallLimits::WallLimits(const Scenario& s) {
     }
 }
 
+void StreamRecorder::record_pending() {
+    const std::span<const std::pair<State, ContactMask>> block(pending_.data(), pending_size_);
+    pending_size_ = 0;
+    if (dim_ == 2)
+        for (const auto& [s, contact] : block) record<2>(s, contact);
+    else
+        for (const auto& [s, contact] : block) record<3>(s, contact);
+}
+
 void StreamRecorder::on_periodic_tail(const PeriodicTail& tail) {
+    record_pending();
     if (tail.count <= 0 || tail.cycle.empty()) return;
     if (sink_) sink_->write_periodic(tail);
     filled_from_ = tail.t_before + tail.dt;
@@ -153,6 +163,7 @@ void StreamRecorder::on_periodic_tail(const PeriodicTail& tail) {
 }
 
 void StreamRecorder::finish(SimulatorSummary& out) {
+    record_pending();
     // A last interval whose highest sample is not its final one did turn over.
     if (apex_open_ && apex_.t < last_.t) push_apex();
     out.steps = states_ > 0 ? states_ - 1 : 0;
@@ -186,6 +197,7 @@ void StreamRecorder::finish(SimulatorSummary& out) {
 }
 
 void StreamRecorder::on_resolved_events(const ResolvedEvents& events) {
+    record_pending();
     Resolved r;
     r.contacts = static_cast<std::int64_t>(events.contacts.size());
     for (const WallContact& c : events.contacts) {
@@ -208,7 +220,13 @@ SimulatorSummary record_run(const Simulator& sim, const Scenario& s, StateSink* 
     out.simulator = std::string(sim.name());
     out.origin = std::string(sim.origin());
     StreamRecorder recorder(s, sink);
-    RunOutcome outcome = sim.run(s, recorder);
+    RunOutcome outcome;
+    try {
+        outcome = sim.run(s, recorder);
+    } catch (...) {
+        recorder.record_pending();  // the states made before the throw, as the sink would have had them
+        throw;
+    }
     recorder.finish(out);
     out.settings = std::move(outcome.settings);
     out.run_seconds = outcome.run_seconds;

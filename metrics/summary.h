@@ -7,11 +7,13 @@
 #include "simulators/state.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace bouncecheck {
@@ -118,9 +120,15 @@ class StreamRecorder final : public RunSink {
 public:
     StreamRecorder(const Scenario& s, StateSink* sink);
 
+    // States are recorded in blocks: the simulator makes kBlock states
+    // undisturbed, then the recorder and its sink take them one after
+    // another while their own code and data are hot. Interleaved state by
+    // state, the two evicted each other's caches and branch history, which
+    // cost more than the recording itself (bench/README.md, 6). A state
+    // that may end the run is recorded at once.
     bool on_state(const State& s, ContactMask contact) override {
-        if (dim_ == 2) record<2>(s, contact);
-        else record<3>(s, contact);
+        pending_[pending_size_] = {s, contact};
+        if (++pending_size_ == pending_.size() || !plainly_sound(s)) record_pending();
         return !failed();
     }
 
@@ -135,10 +143,23 @@ public:
     void on_resolved_events(const ResolvedEvents& events) override;
 
     bool failed() const { return !failure_.empty(); }
+    // Records the states taken but not yet recorded. finish() does it; a
+    // caller whose simulator threw calls it to keep the states made before.
+    void record_pending();
     // Fills counts, apexes, status and final state; the caller adds timing.
     void finish(SimulatorSummary& out);
 
 private:
+    static constexpr std::size_t kBlock = 256;  // 16 KB of states: within the first-level cache
+    // Finite and inside the room: only a state that is not can fail the
+    // run (diagnose), so the blocks stop a run where single states did.
+    bool plainly_sound(const State& s) const {
+        constexpr double largest = std::numeric_limits<double>::max();
+        bool sound = true;
+        for (int i = 0; i < 3; ++i)
+            sound &= (s.p[i] >= low_limit_[i]) & (s.p[i] <= high_limit_[i]) & (std::abs(s.v[i]) <= largest);
+        return sound;
+    }
     // D: the axes to look at (see WallLimits); 2 only for a 2D scenario (3
     // gives the same bits).
     template <int D>
@@ -220,6 +241,8 @@ private:
         bool contacts_unbounded = false;
     };
     std::optional<Resolved> resolved_;
+    std::array<std::pair<State, ContactMask>, kBlock> pending_;  // not yet recorded, in order
+    std::size_t pending_size_ = 0;
 };
 
 // Runs `sim` on `s` with its stream recorded (and passed on to `sink` when

@@ -2,6 +2,7 @@
 // stream, the stepping loop, failure handling, capability checks.
 #include "engines/engine.h"
 #include "metrics/summary.h"
+#include "reference/reference_simulator.h"
 #include "scenarios/loader.h"
 #include "simulators/document_clock.h"
 
@@ -9,6 +10,7 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace bouncecheck {
 namespace {
@@ -147,6 +149,72 @@ TEST(StreamRecorder, ACentreBeyondAWallFailsEvenByOneUlp) {
     EXPECT_NE(out.reason.find("left the room"), std::string::npos) << out.reason;
 }
 
+// The recorder takes states in blocks (StreamRecorder::on_state): the
+// same record, and the same states passed on, as recording each at once.
+TEST(StreamRecorder, BlocksRecordWhatStateByStateRecords) {
+    Scenario s = seed3d();
+    s.duration = 40;  // 1,335 states: five blocks and a part
+    struct Kept final : RunSink {
+        bool on_state(const State& st, ContactMask c) override {
+            stream.push_back({st, c});
+            return true;
+        }
+        void on_periodic_tail(const PeriodicTail&) override { ADD_FAILURE() << "no tail in 40 s"; }
+        std::vector<std::pair<State, ContactMask>> stream;
+    } kept;
+    make_reference_simulator()->run(s, kept);
+    ASSERT_EQ(kept.stream.size(), 1335u);
+    auto record = [&](bool one_at_a_time, StateVector& passed_on) {
+        StreamRecorder recorder(s, &passed_on);
+        for (const auto& [st, c] : kept.stream) {
+            recorder.on_state(st, c);
+            if (one_at_a_time) recorder.record_pending();
+        }
+        SimulatorSummary out;
+        recorder.finish(out);
+        return out;
+    };
+    StateVector blocked, single;
+    const SimulatorSummary a = record(false, blocked), b = record(true, single);
+    ASSERT_EQ(blocked.states.size(), kept.stream.size());
+    ASSERT_EQ(single.states.size(), kept.stream.size());
+    for (std::size_t i = 0; i < kept.stream.size(); ++i) {
+        EXPECT_EQ(blocked.states[i].t, single.states[i].t) << i;
+        EXPECT_EQ(blocked.states[i].p, single.states[i].p) << i;
+    }
+    EXPECT_EQ(a.steps, b.steps);
+    EXPECT_GT(a.contacts, 20);
+    EXPECT_EQ(a.contacts, b.contacts);
+    EXPECT_GT(a.apex_count, 5);
+    EXPECT_EQ(a.apex_count, b.apex_count);
+    ASSERT_EQ(a.apexes.size(), b.apexes.size());
+    for (std::size_t i = 0; i < a.apexes.size(); ++i) EXPECT_EQ(a.apexes[i].height, b.apexes[i].height) << i;
+    ASSERT_EQ(a.contact_events.size(), b.contact_events.size());
+    for (std::size_t i = 0; i < a.contact_events.size(); ++i)
+        EXPECT_EQ(a.contact_events[i].normal_coefficient, b.contact_events[i].normal_coefficient) << i;
+    EXPECT_EQ(a.max_penetration, b.max_penetration);
+    EXPECT_EQ(a.energy_max_rise, b.energy_max_rise);
+    EXPECT_EQ(a.rest_time, b.rest_time);
+    EXPECT_EQ(a.final_state.p, b.final_state.p);
+    EXPECT_EQ(a.final_state.t, b.final_state.t);
+}
+
+// A simulator that throws part-way through a block: the states it made
+// before still reach the sink (Siconos's event-driven solver gives up so).
+TEST(StreamRecorder, StatesBeforeAThrowAreRecorded) {
+    struct Thrower final : Simulator {
+        std::string_view name() const override { return "thrower"; }
+        std::string_view description() const override { return "throws after 300 states"; }
+        RunOutcome run(const Scenario& s, RunSink& sink) const override {
+            for (int i = 0; i < 300; ++i) sink.on_state(State{i * s.dt, s.position, s.velocity}, {});
+            throw std::runtime_error("gave up");
+        }
+    };
+    StateVector reached;
+    EXPECT_THROW(record_run(Thrower{}, seed3d(), &reached), std::runtime_error);
+    EXPECT_EQ(reached.states.size(), 300u);
+}
+
 // A stand-in engine world: free flight with a hook to go wrong.
 class FakeEngine final : public EngineSimulator {
 public:
@@ -219,6 +287,14 @@ TEST(EngineSimulator, NonFiniteStateFailsTheRunAndStopsStepping) {
     EXPECT_EQ(r.status, RunStatus::failed);
     EXPECT_NE(r.reason.find("non-finite"), std::string::npos) << r.reason;
     EXPECT_EQ(engine.steps, 10);
+    // Past the first block of states as well: the run stops at the state.
+    const FakeEngine later(/*fail_at_step=*/300);
+    StateVector states;
+    const SimulatorSummary r2 = record_run(later, seed3d(), &states);
+    EXPECT_EQ(r2.status, RunStatus::failed);
+    EXPECT_EQ(later.steps, 300);
+    EXPECT_EQ(r2.steps, 300);
+    EXPECT_EQ(states.states.size(), 301u);
 }
 
 TEST(EngineSimulator, CapabilitiesDecideWhatRunsBeforeAnySetUp) {
