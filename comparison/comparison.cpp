@@ -12,18 +12,6 @@
 
 namespace bouncecheck {
 
-namespace {
-
-// |a - b|^2 in the order Eigen's squaredNorm sums a Vec3, (x^2 + y^2) + z^2,
-// but component by component: exact's state, just stored as single doubles,
-// read back as a pair stalled on store forwarding (bench/README.md, 6).
-double squared_distance(const Vec3& a, const Vec3& b) {
-    const double x = a[0] - b[0], y = a[1] - b[1], z = a[2] - b[2];
-    return (x * x + y * y) + z * z;
-}
-
-}  // namespace
-
 // Running distance statistics against one baseline, kept on squared
 // distances: the sum of squares needs no square root, and the largest
 // distance is the root of the largest square (sqrt is monotone and
@@ -208,9 +196,9 @@ void TrajectoryComparer::write(const State& s) {
     const bool tracked = sample_ < tracked_;
     const auto n = static_cast<std::size_t>(sample_);
     const double to_reference =
-        stream_is_reference_ ? 0.0 : squared_distance(s.p, next_reference_position(tracked, n));
+        stream_is_reference_ ? 0.0 : (s.p - next_reference_position(tracked, n)).squaredNorm();
     const bool exact_tracked = tracked && s.t == clock_.t();
-    const double to_exact = squared_distance(s.p, exact_tracked ? track_->exact[n] : exact_.state(s.t).p);
+    const double to_exact = (s.p - (exact_tracked ? track_->exact[n] : exact_.state(s.t).p)).squaredNorm();
     if (tracked) clock_.advance();
     ++sample_;
     add(s.t, to_reference, to_exact);
@@ -247,8 +235,8 @@ void TrajectoryComparer::write_periodic(const PeriodicTail& tail) {
     for (std::int64_t j = 0; j < common; ++j) {
         const Vec3& p = tail.cycle[(at.phase() + j) % period].p;
         to_reference[j] =
-            stream_is_reference_ ? 0.0 : reference().with([&](auto& r) { return squared_distance(p, r.replayed(j)); });
-        to_exact[j] = squared_distance(p, exact_p);
+            stream_is_reference_ ? 0.0 : reference().with([&](auto& r) { return (p - r.replayed(j)).squaredNorm(); });
+        to_exact[j] = (p - exact_p).squaredNorm();
     }
     if (!stream_is_reference_) reference().with([&](auto& r) { r.skip(at.left()); });
     sample_ += at.left();
