@@ -171,7 +171,12 @@ int main(int argc, char** argv) {
                                              if (!c.base) c.base = baselines_for_every_simulator(c.scenario, simulators);
                                              static std::map<std::string, std::unique_ptr<Replay>> replays;
                                              auto& replay = replays[std::string(sim.name()) + "/" + c.scenario.name];
-                                             if (!replay) replay = std::make_unique<Replay>(sim, c.scenario);
+                                             try {
+                                                 if (!replay) replay = std::make_unique<Replay>(sim, c.scenario);
+                                             } catch (const std::exception& e) {  // as in paired()
+                                                 st.SkipWithError(e.what());
+                                                 return;
+                                             }
                                              harness(st, *replay, c.scenario, *c.base);
                                          })
                 ->Unit(benchmark::kMillisecond);
