@@ -42,6 +42,19 @@ Scenario lengthened(Scenario s, const std::string& name, bool elastic) {
     return s;
 }
 
+// Runs `body`; an engine that throws in it (Siconos's event-driven solver
+// can) ends this benchmark, not the program. False if it threw.
+template <class F>
+bool skip_if_it_throws(benchmark::State& state, F&& body) {
+    try {
+        body();
+        return true;
+    } catch (const std::exception& e) {
+        state.SkipWithError(e.what());
+        return false;
+    }
+}
+
 // Both side by side (bench/paired_timing.h): `overhead_pct` is the median of
 // 100 (compared / unrecorded - 1) over the iterations.
 void paired(benchmark::State& state, const Simulator& sim, const Scenario& s, const Baselines& base) {
@@ -51,16 +64,12 @@ void paired(benchmark::State& state, const Simulator& sim, const Scenario& s, co
     const bench::PairedSeconds t = bench::time_pairs(
         state,
         [&] {
-            // An engine that throws (Siconos's event-driven solver can) ends
-            // this benchmark, not the others.
-            try {
+            skip_if_it_throws(state, [&] {
                 const UnrecordedRun run = sim.run_unrecorded(s);
                 if (run.status != RunStatus::ok) state.SkipWithError(run.reason.c_str());
                 steps = std::max<std::int64_t>(run.steps, 1);
                 benchmark::DoNotOptimize(run.final_state);
-            } catch (const std::exception& e) {
-                state.SkipWithError(e.what());
-            }
+            });
         },
         [&] {
             const ComparedRun run = run_compared(sim, s, request, base);
@@ -171,12 +180,10 @@ int main(int argc, char** argv) {
                                              if (!c.base) c.base = baselines_for_every_simulator(c.scenario, simulators);
                                              static std::map<std::string, std::unique_ptr<Replay>> replays;
                                              auto& replay = replays[std::string(sim.name()) + "/" + c.scenario.name];
-                                             try {
-                                                 if (!replay) replay = std::make_unique<Replay>(sim, c.scenario);
-                                             } catch (const std::exception& e) {  // as in paired()
-                                                 st.SkipWithError(e.what());
+                                             if (!replay && !skip_if_it_throws(st, [&] {
+                                                     replay = std::make_unique<Replay>(sim, c.scenario);
+                                                 }))
                                                  return;
-                                             }
                                              harness(st, *replay, c.scenario, *c.base);
                                          })
                 ->Unit(benchmark::kMillisecond);

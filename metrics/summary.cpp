@@ -198,7 +198,6 @@ void StreamRecorder::finish(SimulatorSummary& out) {
 }
 
 void StreamRecorder::on_resolved_events(const ResolvedEvents& events) {
-    record_pending();
     Resolved r;
     r.contacts = static_cast<std::int64_t>(events.contacts.size());
     for (const WallContact& c : events.contacts) {
