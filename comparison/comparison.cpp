@@ -184,27 +184,34 @@ TrajectoryComparer::LockstepReference& TrajectoryComparer::reference() {
     return *reference_;
 }
 
-Vec3 TrajectoryComparer::next_reference_position(bool tracked, std::size_t n) {
-    if (tracked) return track_->reference[n];
-    return reference().with([](auto& r) { return r.next_position(); });
-}
-
-void TrajectoryComparer::write(const State& s) {
-    // Sample n is compared with the reference's sample n; exact is read from
-    // the track where the stream's time is the clock's (an imported stream's
-    // may not be).
-    const bool tracked = sample_ < tracked_;
+// Sample n is compared with the reference's sample n; exact is read from
+// the track where the stream's time is the clock's (an imported stream's
+// may not be).
+inline void TrajectoryComparer::compare(const State& s) {
+    if (sample_ >= tracked_) return compare_untracked(s);
     const auto n = static_cast<std::size_t>(sample_);
-    const double to_reference =
-        stream_is_reference_ ? 0.0 : (s.p - next_reference_position(tracked, n)).squaredNorm();
-    const bool exact_tracked = tracked && s.t == clock_.t();
-    const double to_exact = (s.p - (exact_tracked ? track_->exact[n] : exact_.state(s.t).p)).squaredNorm();
-    if (tracked) clock_.advance();
+    const double to_reference = stream_is_reference_ ? 0.0 : (s.p - track_->reference[n]).squaredNorm();
+    const double to_exact = (s.p - (s.t == clock_.t() ? track_->exact[n] : exact_.state(s.t).p)).squaredNorm();
+    clock_.advance();
     ++sample_;
     add(s.t, to_reference, to_exact);
 }
 
-void TrajectoryComparer::add(double t, double to_reference, double to_exact) {
+void TrajectoryComparer::compare_untracked(const State& s) {
+    const double to_reference =
+        stream_is_reference_ ? 0.0 : (s.p - reference().with([](auto& r) { return r.next_position(); })).squaredNorm();
+    const double to_exact = (s.p - exact_.state(s.t).p).squaredNorm();
+    ++sample_;
+    add(s.t, to_reference, to_exact);
+}
+
+void TrajectoryComparer::write(const State& s) { compare(s); }
+
+void TrajectoryComparer::write_block(std::span<const State> states) {
+    for (const State& s : states) compare(s);
+}
+
+inline void TrajectoryComparer::add(double t, double to_reference, double to_exact) {
     vs_reference_->add(t, to_reference);
     vs_exact_->add(t, to_exact);
     if (reference_series_) {

@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -86,6 +87,8 @@ public:
     static std::shared_ptr<const BaselineTrack> share_baselines(const Scenario& s, const ExactModel& exact,
                                                                 std::int64_t max_samples = kSharedSamples);
     void write(const State& s) override;
+    // The same as write() of each, in one loop over the block.
+    void write_block(std::span<const State> states) override;
     // State by state until both baselines repeat as well (the reference at
     // its rest cycle, exact still); from there the distances repeat with the
     // cycles' common period and are added up without evaluating anything.
@@ -107,12 +110,14 @@ private:
                        bool stream_is_reference);
     struct Stats;
     struct LockstepReference;
+    // One state: write() without the call.
+    void compare(const State& s);
+    // Past the track: the reference stepped on and exact evaluated.
+    void compare_untracked(const State& s);
     // One sample's squared distances (every figure is kept squared until read).
     void add(double t, double to_reference, double to_exact);
     // Past the track: the reference as it stands after the track's samples.
     LockstepReference& reference();
-    // The reference's position at the next sample (tracked: sample n).
-    Vec3 next_reference_position(bool tracked, std::size_t n);
     const ExactModel& exact_model_;
     ExactModel::Cursor exact_;  // the stream's times do not decrease
     std::shared_ptr<const BaselineTrack> track_;

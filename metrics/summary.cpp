@@ -108,12 +108,13 @@ WallLimits::WallLimits(const Scenario& s) {
 }
 
 void StreamRecorder::record_pending() {
-    const std::span<const std::pair<State, ContactMask>> block(pending_.data(), pending_size_);
-    pending_size_ = 0;
+    const std::size_t n = std::exchange(pending_size_, 0);
+    if (n == 0) return;
+    if (sink_) sink_->write_block({pending_states_.data(), n});
     if (dim_ == 2)
-        for (const auto& [s, contact] : block) record<2>(s, contact);
+        for (std::size_t i = 0; i < n; ++i) track<2>(pending_states_[i], pending_contacts_[i]);
     else
-        for (const auto& [s, contact] : block) record<3>(s, contact);
+        for (std::size_t i = 0; i < n; ++i) track<3>(pending_states_[i], pending_contacts_[i]);
 }
 
 void StreamRecorder::on_periodic_tail(const PeriodicTail& tail) {
@@ -124,15 +125,13 @@ void StreamRecorder::on_periodic_tail(const PeriodicTail& tail) {
     fill_period_ = tail.period();
     fill_steps_ = tail.count;
     // Replays tail states one by one (the sink has had them already).
-    StateSink* const sink = sink_;
-    sink_ = nullptr;
     const std::int64_t period = tail.period();
     PeriodicTail::Cursor at(tail);
     auto replay = [&](std::int64_t states) {
         for (std::int64_t i = 0; i < states; ++i) {
             ContactMask contact;
             const State s = at.next(&contact);
-            record<3>(s, contact);
+            track<3>(s, contact);
         }
     };
     // What one whole cycle adds to the counts. The recorder has seen the
@@ -160,7 +159,6 @@ void StreamRecorder::on_periodic_tail(const PeriodicTail& tail) {
         apex_count_ += skipped * cycle_apexes;
     }
     replay(at.left());
-    sink_ = sink;
 }
 
 void StreamRecorder::finish(SimulatorSummary& out) {

@@ -130,8 +130,9 @@ public:
     // cost more than the recording itself (bench/README.md, 6). A state
     // that may end the run is recorded at once.
     bool on_state(const State& s, ContactMask contact) override {
-        pending_[pending_size_] = {s, contact};
-        if (++pending_size_ == pending_.size() || !plainly_sound(s)) record_pending();
+        pending_states_[pending_size_] = s;
+        pending_contacts_[pending_size_] = contact;
+        if (++pending_size_ == kBlock || !plainly_sound(s)) record_pending();
         return !failed();
     }
 
@@ -163,11 +164,11 @@ private:
             sound &= (s.p[i] >= low_limit_[i]) & (s.p[i] <= high_limit_[i]) & (std::abs(s.v[i]) <= largest);
         return sound;
     }
-    // D: the axes to look at (see WallLimits); 2 only for a 2D scenario (3
-    // gives the same bits).
+    // One state's metrics; the sink has had it (record_pending passes it the
+    // whole block first). D: the axes to look at (see WallLimits); 2 only for
+    // a 2D scenario (3 gives the same bits).
     template <int D>
-    void record(const State& s, ContactMask contact) {
-        if (sink_) sink_->write(s);
+    void track(const State& s, ContactMask contact) {
         track_bounds_and_energy<D>(s);
         if (contact.any()) count_contacts(s, contact);
         track_rest(s);
@@ -244,7 +245,9 @@ private:
         bool contacts_unbounded = false;
     };
     std::optional<Resolved> resolved_;
-    std::array<std::pair<State, ContactMask>, kBlock> pending_;  // not yet recorded, in order
+    // Not yet recorded, in order; the states contiguous for the sink's write_block.
+    std::array<State, kBlock> pending_states_;
+    std::array<ContactMask, kBlock> pending_contacts_;
     std::size_t pending_size_ = 0;
 };
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace bouncecheck {
@@ -84,6 +85,12 @@ class StateSink {
 public:
     virtual ~StateSink() = default;
     virtual void write(const State& s) = 0;
+    // Consecutive states of the stream, in order (the metrics recorder passes
+    // them in blocks). By default each one is written; a sink whose per-state
+    // work is worth fusing over a block overrides this, with the same result.
+    virtual void write_block(std::span<const State> states) {
+        for (const State& s : states) write(s);
+    }
     // The run's remaining states, periodic. By default each one is written;
     // a sink that can take them faster overrides this, with the same result.
     virtual void write_periodic(const PeriodicTail& tail) {

@@ -186,7 +186,7 @@ Baselines::Baselines(const Scenario& s, const RunRequest& request)
 namespace {
 
 // Every state to the comparison, and to the plot and the trajectory file
-// when asked: direct calls to final classes, once per state.
+// when asked: direct calls to final classes, a block at a time each.
 struct ComparedSink final : StateSink {
     TrajectoryComparer& comparer;
     TraceDecimator* trace;
@@ -196,6 +196,13 @@ struct ComparedSink final : StateSink {
         comparer.write(s);
         if (trace) trace->write(s);
         if (csv) csv->write(s);
+    }
+    void write_block(std::span<const State> states) override {
+        comparer.write_block(states);
+        if (trace)
+            for (const State& s : states) trace->write(s);
+        if (csv)
+            for (const State& s : states) csv->write(s);
     }
     void write_periodic(const PeriodicTail& tail) override {
         comparer.write_periodic(tail);
