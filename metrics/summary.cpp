@@ -60,7 +60,7 @@ void StreamRecorder::diagnose(const State& s) {
     }
 }
 
-void StreamRecorder::count_contacts(const State& s, ContactMask contact) {
+void StreamRecorder::count_contacts(const State& previous, const State& s, ContactMask contact) {
     for (int i = 0; i < dim_; ++i) {
         for (const int side : {-1, +1}) {
             if (!(((side < 0 ? contact.lower : contact.upper) >> i) & 1u)) continue;
@@ -68,7 +68,7 @@ void StreamRecorder::count_contacts(const State& s, ContactMask contact) {
             if (contact_events_.size() < kKeptContacts && states_ > 0) {
                 // The velocity that meets the wall: a step of gravity after
                 // the last sample, as in the document's step (and Box2D's).
-                const Vec3 incoming = last_.v + gravity_ * (s.t - last_.t);
+                const Vec3 incoming = previous.v + gravity_ * (s.t - previous.t);
                 contact_events_.push_back(
                     measure_contact(s.t, i, side, incoming, s.v, dim_, contact.lower | contact.upper));
             }
@@ -110,11 +110,16 @@ WallLimits::WallLimits(const Scenario& s) {
 void StreamRecorder::record_pending() {
     const std::size_t n = std::exchange(pending_size_, 0);
     if (n == 0) return;
-    if (sink_) sink_->write_block({pending_states_.data(), n});
-    if (dim_ == 2)
-        for (std::size_t i = 0; i < n; ++i) track<2>(pending_states_[i], pending_contacts_[i]);
-    else
-        for (std::size_t i = 0; i < n; ++i) track<3>(pending_states_[i], pending_contacts_[i]);
+    const std::span<const State> states(pending_states_.data(), n);
+    if (sink_) sink_->write_block(states);
+    // Each state's predecessor read in place, not copied aside state by state.
+    auto track_all = [&]<int D>() {
+        track<D>(last_, states[0], pending_contacts_[0]);
+        for (std::size_t i = 1; i < n; ++i) track<D>(states[i - 1], states[i], pending_contacts_[i]);
+    };
+    if (dim_ == 2) track_all.template operator()<2>();
+    else track_all.template operator()<3>();
+    last_ = states.back();
 }
 
 void StreamRecorder::on_periodic_tail(const PeriodicTail& tail) {
@@ -131,7 +136,8 @@ void StreamRecorder::on_periodic_tail(const PeriodicTail& tail) {
         for (std::int64_t i = 0; i < states; ++i) {
             ContactMask contact;
             const State s = at.next(&contact);
-            track<3>(s, contact);
+            track<3>(last_, s, contact);
+            last_ = s;
         }
     };
     // What one whole cycle adds to the counts. The recorder has seen the

@@ -164,16 +164,16 @@ private:
             sound &= (s.p[i] >= low_limit_[i]) & (s.p[i] <= high_limit_[i]) & (std::abs(s.v[i]) <= largest);
         return sound;
     }
-    // One state's metrics; the sink has had it (record_pending passes it the
-    // whole block first). D: the axes to look at (see WallLimits); 2 only for
-    // a 2D scenario (3 gives the same bits).
+    // One state's metrics, after `previous` (the stream's state before it;
+    // unused for the first). The sink has had it (record_pending passes it
+    // the whole block first). D: the axes to look at (see WallLimits); 2 only
+    // for a 2D scenario (3 gives the same bits).
     template <int D>
-    void track(const State& s, ContactMask contact) {
+    void track(const State& previous, const State& s, ContactMask contact) {
         track_bounds_and_energy<D>(s);
-        if (contact.any()) count_contacts(s, contact);
+        if (contact.any()) count_contacts(previous, s, contact);
         track_rest(s);
-        track_apex(s);
-        last_ = s;
+        track_apex(previous, s);
         ++states_;
     }
 
@@ -195,13 +195,13 @@ private:
     // Records why a state is unsound (the first time); finds nothing when
     // only the energy overflowed from a huge but finite velocity.
     void diagnose(const State& s);
-    void count_contacts(const State& s, ContactMask contact);
+    void count_contacts(const State& previous, const State& s, ContactMask contact);
     void push_apex();
-    void track_apex(const State& s) {
+    void track_apex(const State& previous, const State& s) {
         const double height = s.p[vertical_];
         if (!apex_open_ || height > apex_.height) {
             apex_ = Apex{s.t, height};
-            apex_before_ = states_ > 0 && apex_open_ ? last_.p[vertical_] : std::nan("");
+            apex_before_ = states_ > 0 && apex_open_ ? previous.p[vertical_] : std::nan("");
             apex_after_ = std::nan("");
             apex_open_ = true;
         } else if (std::isnan(apex_after_)) {
@@ -227,7 +227,7 @@ private:
     Vec3 gravity_;
     double energy0_ = 0, energy_max_rise_ = 0, max_penetration_ = 0;
     bool apex_open_ = false;
-    State last_;
+    State last_;  // the last state recorded
     std::string failure_;
     // Vertical rest: from rest_since_ on, the ball stayed within rest_height_
     // of the floor with vertical speed below rest_speed_ (see summary.cpp).

@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace bouncecheck {
@@ -36,9 +37,28 @@ class TraceDecimator final : public StateSink {
 public:
     // expected_states: how many states the run will stream (sets the stride).
     explicit TraceDecimator(std::int64_t expected_states, std::size_t budget = kPlotPoints);
-    // Inline, every state: a countdown rather than a division for the
-    // stride, and one branch-free screen for a reversal.
     void write(const State& s) override {
+        take(previous_, s);
+        previous_ = s;
+    }
+    // The same as write() of each, reading each state's predecessor in
+    // place rather than copying every state aside.
+    void write_block(std::span<const State> states) override {
+        if (states.empty()) return;
+        take(previous_, states[0]);
+        for (std::size_t i = 1; i < states.size(); ++i) take(states[i - 1], states[i]);
+        previous_ = states.back();
+    }
+    // The same kept states as write() of each, in O(period x turning
+    // points kept + kept states x log) instead of O(states).
+    void write_periodic(const PeriodicTail& tail) override;
+    PlotTrace finish();
+
+private:
+    // One state, after `previous` (the stream's state before it; unused
+    // for the first). Inline, every state: a countdown rather than a
+    // division for the stride, and one branch-free screen for a reversal.
+    void take(const State& previous, const State& s) {
         // A component that was nonzero and now has the other sign or is
         // zero, read from the bits: a ball at rest keeps subnormal
         // tangential velocities for about 1e5 states, and a product of two
@@ -48,31 +68,24 @@ public:
         constexpr std::uint64_t kMagnitude = 0x7FFF'FFFF'FFFF'FFFFull;
         std::uint64_t screen = 0;
         for (int i = 0; i < 3; ++i) {
-            const auto before = std::bit_cast<std::uint64_t>(previous_.v[i]);
+            const auto before = std::bit_cast<std::uint64_t>(previous.v[i]);
             const auto after = std::bit_cast<std::uint64_t>(s.v[i]);
             const std::uint64_t sign_flips = (before ^ after) >> 63, now_zero = (after & kMagnitude) == 0;
             screen |= static_cast<std::uint64_t>((before & kMagnitude) != 0) & (sign_flips | now_zero);
         }
-        const bool turning = screen && started_ && turning_points_ < kPlotTurningPoints && reverses(previous_.v, s.v);
+        const bool turning = screen && started_ && turning_points_ < kPlotTurningPoints && reverses(previous.v, s.v);
         if (turning) {
             // The state before the reversal too: the path's corner lies between them.
-            if (!previous_kept_) keep(previous_);
+            if (!previous_kept_) keep(previous);
             turning_points_ += 2;
         }
         const bool on_stride = until_kept_-- == 0;
         if (on_stride) until_kept_ = stride_ - 1;
         const bool kept = turning || on_stride;
         if (kept) keep(s);
-        previous_ = s;
         previous_kept_ = kept;
         started_ = true;
     }
-    // The same kept states as write() of each, in O(period x turning
-    // points kept + kept states x log) instead of O(states).
-    void write_periodic(const PeriodicTail& tail) override;
-    PlotTrace finish();
-
-private:
     static bool reverses(const Vec3& before, const Vec3& after);
     void keep(const State& s);
     std::int64_t stride_, until_kept_ = 0;

@@ -199,8 +199,7 @@ struct ComparedSink final : StateSink {
     }
     void write_block(std::span<const State> states) override {
         comparer.write_block(states);
-        if (trace)
-            for (const State& s : states) trace->write(s);
+        if (trace) trace->write_block(states);
         if (csv)
             for (const State& s : states) csv->write(s);
     }
