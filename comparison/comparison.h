@@ -110,7 +110,7 @@ private:
                        bool stream_is_reference);
     struct Stats;
     struct LockstepReference;
-    // One state: write() without the call.
+    // write(), declared inline so that write_block's loop makes no call per state.
     void compare(const State& s);
     // Past the track: the reference stepped on and exact evaluated.
     void compare_untracked(const State& s);

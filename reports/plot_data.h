@@ -45,8 +45,11 @@ public:
     // place rather than copying every state aside.
     void write_block(std::span<const State> states) override {
         if (states.empty()) return;
-        take(previous_, states[0]);
-        for (std::size_t i = 1; i < states.size(); ++i) take(states[i - 1], states[i]);
+        const State* previous = &previous_;
+        for (const State& s : states) {
+            take(*previous, s);
+            previous = &s;
+        }
         previous_ = states.back();
     }
     // The same kept states as write() of each, in O(period x turning

@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -431,6 +432,48 @@ TEST(PeriodicTail, PlotTraceOfATailMatchesStateByStateBitForBit) {
                 expect_same_trace(exact_filled.finish(), exact_each.finish());
             }
         }
+    }
+}
+
+// The metrics recorder hands its sink blocks of states (StateSink::
+// write_block). The comparison and the plotted path take a block of any
+// size, across the end of the shared track, as they take its states one by
+// one, bit for bit.
+TEST(SinkBlocks, ComparisonAndPlotTakeBlocksOfAnySizeAsSingleStatesBitForBit) {
+    for (const char* file : {"seed-3d.toml", "seed-2d.toml"}) {
+        const Scenario s = seed(file);
+        SCOPED_TRACE(s.name);
+        const ExactModel exact(s);
+        // exact's stream: a distance to the reference at almost every sample.
+        std::vector<State> stream;
+        exact.sample_document_clock([&](const State& st) { stream.push_back(st); });
+        ASSERT_GT(stream.size(), 1000u);
+        const auto track = TrajectoryComparer::share_baselines(s, exact, 500);
+        const std::optional<double> cut = s.duration * 0.5;
+        TrajectoryComparer single(s, exact, cut, exact.rest_time(), track),
+            blocked(s, exact, cut, exact.rest_time(), track);
+        single.record_series(7);
+        blocked.record_series(7);
+        TraceDecimator single_path(expected_states(s), 50), blocked_path(expected_states(s), 50);
+        for (const State& st : stream) {
+            single.write(st);
+            single_path.write(st);
+        }
+        const std::size_t sizes[] = {1, 3, 256, 100, 511, 2};
+        for (std::size_t at = 0, k = 0; at < stream.size(); ++k) {
+            const std::size_t n = std::min(sizes[k % std::size(sizes)], stream.size() - at);
+            const std::span<const State> block(stream.data() + at, n);
+            blocked.write_block(block);
+            blocked_path.write_block(block);
+            at += n;
+        }
+        EXPECT_GT(single.vs_reference().max, 0.0);
+        EXPECT_TRUE(single.vs_reference().first_exceeds.has_value());
+        expect_same_divergence(single.vs_reference(), blocked.vs_reference());
+        expect_same_divergence(single.vs_exact(), blocked.vs_exact());
+        expect_same_series(*single.reference_series(), *blocked.reference_series());
+        expect_same_series(*single.exact_series(), *blocked.exact_series());
+        expect_same_trace(single_path.finish(), blocked_path.finish());
     }
 }
 

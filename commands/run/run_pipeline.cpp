@@ -192,16 +192,11 @@ struct ComparedSink final : StateSink {
     TraceDecimator* trace;
     TrajectoryCsv* csv;
     ComparedSink(TrajectoryComparer& c, TraceDecimator* t, TrajectoryCsv* f) : comparer(c), trace(t), csv(f) {}
-    void write(const State& s) override {
-        comparer.write(s);
-        if (trace) trace->write(s);
-        if (csv) csv->write(s);
-    }
+    void write(const State& s) override { write_block({&s, 1}); }
     void write_block(std::span<const State> states) override {
         comparer.write_block(states);
         if (trace) trace->write_block(states);
-        if (csv)
-            for (const State& s : states) csv->write(s);
+        if (csv) csv->write_block(states);
     }
     void write_periodic(const PeriodicTail& tail) override {
         comparer.write_periodic(tail);
