@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace bouncecheck {
 
@@ -21,7 +22,11 @@ std::int64_t expected_states(const Scenario& s) {
     return static_cast<std::int64_t>(steps) + 1;
 }
 
-TraceDecimator::TraceDecimator(std::int64_t expected, std::size_t budget) : stride_(plot_stride(expected, budget)) {}
+TraceDecimator::TraceDecimator(std::int64_t expected, std::size_t budget) : stride_(plot_stride(expected, budget)) {
+    // The even samples' share, grown into once rather than by doubling.
+    trace_.t.reserve(budget + 1);
+    trace_.p.reserve(budget + 1);
+}
 
 bool TraceDecimator::reverses(const Vec3& before, const Vec3& after) {
     for (int i = 0; i < 3; ++i)
@@ -63,7 +68,7 @@ void TraceDecimator::write_periodic(const PeriodicTail& tail) {
 PlotTrace TraceDecimator::finish() {
     if (started_ && !previous_kept_) keep(previous_);
     previous_kept_ = true;
-    return trace_;
+    return std::move(trace_);
 }
 
 PlotTrace exact_plot_trace(const ExactModel& exact, const Scenario& s, std::size_t budget) {

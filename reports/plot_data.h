@@ -55,6 +55,7 @@ public:
     // The same kept states as write() of each, in O(period x turning
     // points kept + kept states x log) instead of O(states).
     void write_periodic(const PeriodicTail& tail) override;
+    // The kept path, the last state included; once, after the last write.
     PlotTrace finish();
 
 private:
