@@ -37,12 +37,8 @@ class TraceDecimator final : public StateSink {
 public:
     // expected_states: how many states the run will stream (sets the stride).
     explicit TraceDecimator(std::int64_t expected_states, std::size_t budget = kPlotPoints);
-    void write(const State& s) override {
-        take(previous_, s);
-        previous_ = s;
-    }
-    // The same as write() of each, reading each state's predecessor in
-    // place rather than copying every state aside.
+    void write(const State& s) override { write_block({&s, 1}); }
+    // Each state's predecessor read in place rather than copied aside.
     void write_block(std::span<const State> states) override {
         if (states.empty()) return;
         const State* previous = &previous_;
