@@ -114,6 +114,9 @@ private:
     void compare(const State& s);
     // Past the track: the reference stepped on and exact evaluated.
     void compare_untracked(const State& s);
+    // A block whose states are all on the track (see write_block).
+    template <int D>
+    void compare_tracked(std::span<const State> states);
     // One sample's squared distances (every figure is kept squared until read).
     void add(double t, double to_reference, double to_exact);
     // Past the track: the reference as it stands after the track's samples.
@@ -123,6 +126,7 @@ private:
     std::shared_ptr<const BaselineTrack> track_;
     std::int64_t tracked_ = 0, sample_ = 0;  // the track's samples; the next sample's index
     DocumentClock clock_;                    // the next sample's time on the document clock
+    int dim_;
     bool stream_is_reference_ = false;              // of_the_reference
     std::unique_ptr<LockstepReference> reference_;  // made when first needed past the track
     std::unique_ptr<Stats> vs_reference_, vs_exact_;

@@ -65,7 +65,7 @@ void StreamRecorder::count_contacts(const State& previous, const State& s, Conta
         for (const int side : {-1, +1}) {
             if (!(((side < 0 ? contact.lower : contact.upper) >> i) & 1u)) continue;
             ++contacts_;
-            if (contact_events_.size() < kKeptContacts && states_ > 0) {
+            if (contact_events_.size() < kKeptContacts && tracking_.states > 0) {
                 // The velocity that meets the wall: a step of gravity after
                 // the last sample, as in the document's step (and Box2D's).
                 const Vec3 incoming = previous.v + gravity_ * (s.t - previous.t);
@@ -78,21 +78,22 @@ void StreamRecorder::count_contacts(const State& previous, const State& s, Conta
         ++floor_contacts_;
         // The interval since the previous floor contact closes: its highest
         // sample is an apex unless the ball never rose above the floor sample.
-        if (apex_open_ && apex_.t < s.t) push_apex();
-        apex_open_ = false;
+        if (tracking_.apex_open && tracking_.apex.t < s.t) push_apex();
+        tracking_.apex_open = false;
     }
 }
 
 // The apex sample refined by the parabola through it and its two neighbours
 // (samples are dt apart): the vertex, if it lies within a step of the sample.
 void StreamRecorder::push_apex() {
-    Apex a = apex_;
-    const double curvature = apex_before_ - 2 * apex_.height + apex_after_;  // NaN without both neighbours
+    const Tracking& r = tracking_;
+    Apex a = r.apex;
+    const double curvature = r.apex_before - 2 * r.apex.height + r.apex_after;  // NaN without both neighbours
     if (curvature < 0) {
-        const double offset = 0.5 * dt_ * (apex_before_ - apex_after_) / curvature;
+        const double offset = 0.5 * dt_ * (r.apex_before - r.apex_after) / curvature;
         if (std::abs(offset) <= dt_) {
             a.t += offset;
-            a.height -= (apex_after_ - apex_before_) * (apex_after_ - apex_before_) / (8 * curvature);
+            a.height -= (r.apex_after - r.apex_before) * (r.apex_after - r.apex_before) / (8 * curvature);
         }
     }
     if (apexes_.size() < kKeptApexes) apexes_.push_back(a);
@@ -114,8 +115,10 @@ void StreamRecorder::record_pending() {
     if (sink_) sink_->write_block(states);
     // Each state's predecessor read in place, not copied aside state by state.
     auto track_all = [&]<int D>() {
-        track<D>(last_, states[0], pending_contacts_[0]);
-        for (std::size_t i = 1; i < n; ++i) track<D>(states[i - 1], states[i], pending_contacts_[i]);
+        Tracking r = tracking_;
+        track<D>(r, last_, states[0], pending_contacts_[0]);
+        for (std::size_t i = 1; i < n; ++i) track<D>(r, states[i - 1], states[i], pending_contacts_[i]);
+        tracking_ = r;
     };
     if (dim_ == 2) track_all.template operator()<2>();
     else track_all.template operator()<3>();
@@ -136,7 +139,7 @@ void StreamRecorder::on_periodic_tail(const PeriodicTail& tail) {
         for (std::int64_t i = 0; i < states; ++i) {
             ContactMask contact;
             const State s = at.next(&contact);
-            track<3>(last_, s, contact);
+            track<3>(tracking_, last_, s, contact);
             last_ = s;
         }
     };
@@ -159,7 +162,7 @@ void StreamRecorder::on_periodic_tail(const PeriodicTail& tail) {
     const std::int64_t skipped = at.left() / period - 1;
     if (skipped > 0) {
         at.skip(skipped * period);
-        states_ += skipped * period;
+        tracking_.states += skipped * period;
         contacts_ += skipped * cycle_contacts;
         floor_contacts_ += skipped * cycle_floor;
         apex_count_ += skipped * cycle_apexes;
@@ -170,14 +173,14 @@ void StreamRecorder::on_periodic_tail(const PeriodicTail& tail) {
 void StreamRecorder::finish(SimulatorSummary& out) {
     record_pending();
     // A last interval whose highest sample is not its final one did turn over.
-    if (apex_open_ && apex_.t < last_.t) push_apex();
-    out.steps = states_ > 0 ? states_ - 1 : 0;
+    if (tracking_.apex_open && tracking_.apex.t < last_.t) push_apex();
+    out.steps = tracking_.states > 0 ? tracking_.states - 1 : 0;
     out.contacts = contacts_;
     out.floor_contacts = floor_contacts_;
     out.apexes = apexes_;
     out.contact_events = contact_events_;
-    out.max_penetration = max_penetration_;
-    out.energy_max_rise = energy_max_rise_;
+    out.max_penetration = tracking_.max_penetration;
+    out.energy_max_rise = tracking_.energy_max_rise;
     out.apex_count = apex_count_;
     out.final_state = last_;
     out.filled_from = filled_from_;
@@ -185,7 +188,8 @@ void StreamRecorder::finish(SimulatorSummary& out) {
     out.fill_steps = fill_steps_;
     // A rest must last: ten steps at least, so that the last samples of a
     // bouncing run do not count.
-    if (rest_since_ && last_.t - *rest_since_ >= kRestSteps * dt_) out.rest_time = rest_since_;
+    const std::optional<double>& rest_since = tracking_.rest_since;
+    if (rest_since && last_.t - *rest_since >= kRestSteps * dt_) out.rest_time = rest_since;
     if (!failure_.empty()) {
         out.status = RunStatus::failed;
         out.reason = failure_;

@@ -168,13 +168,28 @@ private:
     // unused for the first). The sink has had it (record_pending passes it
     // the whole block first). D: the axes to look at (see WallLimits); 2 only
     // for a 2D scenario (3 gives the same bits).
+    // What every state updates. record_pending keeps a copy in locals over
+    // a block (as members, each sample stored and reloaded them) and syncs
+    // it around the rare calls that read or change it (contacts, apexes).
+    struct Tracking {
+        std::int64_t states = 0;
+        double energy0 = 0, energy_max_rise = 0, max_penetration = 0;
+        Apex apex;
+        double apex_before = 0, apex_after = 0;  // heights of the samples around the apex sample
+        bool apex_open = false;
+        std::optional<double> rest_since;
+    };
     template <int D>
-    void track(const State& previous, const State& s, ContactMask contact) {
-        track_bounds_and_energy<D>(s);
-        if (contact.any()) count_contacts(previous, s, contact);
-        track_rest(s);
-        track_apex(previous, s);
-        ++states_;
+    void track(Tracking& r, const State& previous, const State& s, ContactMask contact) {
+        track_bounds_and_energy<D>(r, s);
+        if (contact.any()) {
+            tracking_ = r;
+            count_contacts(previous, s, contact);
+            r = tracking_;
+        }
+        track_rest(r, s);
+        track_apex(r, previous, s);
+        ++r.states;
     }
 
     // Every state, inline and without a per-axis branch: the deepest
@@ -183,35 +198,36 @@ private:
     // non-finite velocity makes the energy NaN or +inf. Only an unsound
     // state goes to diagnose(), which composes the failure.
     template <int D>
-    void track_bounds_and_energy(const State& s) {
+    void track_bounds_and_energy(Tracking& r, const State& s) {
         const double energy = specific_energy<D>(s, gravity_);
         bool inside = true;
         for (int i = 0; i < D; ++i) inside &= (s.p[i] >= low_limit_[i]) & (s.p[i] <= high_limit_[i]);
         if (!(inside & (energy < std::numeric_limits<double>::infinity()))) diagnose(s);
-        if (states_ == 0) energy0_ = energy;
-        energy_max_rise_ = std::max(energy_max_rise_, energy - energy0_);
-        max_penetration_ = std::max(max_penetration_, walls_.penetration<D>(s.p));
+        if (r.states == 0) r.energy0 = energy;
+        r.energy_max_rise = std::max(r.energy_max_rise, energy - r.energy0);
+        r.max_penetration = std::max(r.max_penetration, walls_.penetration<D>(s.p));
     }
     // Records why a state is unsound (the first time); finds nothing when
     // only the energy overflowed from a huge but finite velocity.
     void diagnose(const State& s);
+    // On tracking_ (track syncs it).
     void count_contacts(const State& previous, const State& s, ContactMask contact);
     void push_apex();
-    void track_apex(const State& previous, const State& s) {
+    void track_apex(Tracking& r, const State& previous, const State& s) const {
         const double height = s.p[vertical_];
-        if (!apex_open_ || height > apex_.height) {
-            apex_ = Apex{s.t, height};
-            apex_before_ = states_ > 0 && apex_open_ ? previous.p[vertical_] : std::nan("");
-            apex_after_ = std::nan("");
-            apex_open_ = true;
-        } else if (std::isnan(apex_after_)) {
-            apex_after_ = height;
+        if (!r.apex_open || height > r.apex.height) {
+            r.apex = Apex{s.t, height};
+            r.apex_before = r.states > 0 && r.apex_open ? previous.p[vertical_] : std::nan("");
+            r.apex_after = std::nan("");
+            r.apex_open = true;
+        } else if (std::isnan(r.apex_after)) {
+            r.apex_after = height;
         }
     }
-    void track_rest(const State& s) {
+    void track_rest(Tracking& r, const State& s) const {
         const bool resting = s.p[vertical_] - floor_ <= rest_height_ && std::abs(s.v[vertical_]) <= rest_speed_;
-        if (!resting) rest_since_.reset();
-        else if (!rest_since_) rest_since_ = s.t;
+        if (!resting) r.rest_since.reset();
+        else if (!r.rest_since) r.rest_since = s.t;
     }
 
     StateSink* sink_;
@@ -219,21 +235,17 @@ private:
     int vertical_;
     Vec3 low_limit_, high_limit_;  // centre positions beyond which the ball has left the room (unused axes: infinite)
     WallLimits walls_;
-    std::int64_t states_ = 0, contacts_ = 0, floor_contacts_ = 0, apex_count_ = 0;
+    Tracking tracking_;
+    std::int64_t contacts_ = 0, floor_contacts_ = 0, apex_count_ = 0;
     std::vector<Apex> apexes_;
     std::vector<ContactEvent> contact_events_;
-    Apex apex_;
-    double apex_before_ = 0, apex_after_ = 0;  // heights of the samples around the apex sample
     Vec3 gravity_;
-    double energy0_ = 0, energy_max_rise_ = 0, max_penetration_ = 0;
-    bool apex_open_ = false;
     State last_;  // the last state recorded
     std::string failure_;
-    // Vertical rest: from rest_since_ on, the ball stayed within rest_height_
+    // Vertical rest: from Tracking::rest_since on, the ball stayed within rest_height_
     // of the floor with vertical speed below rest_speed_ (see summary.cpp).
     static constexpr int kRestSteps = 10;
     double floor_, rest_height_, rest_speed_, dt_;
-    std::optional<double> rest_since_;
     std::optional<double> filled_from_;
     std::int64_t fill_period_ = 0, fill_steps_ = 0;
     // What on_resolved_events measured, applied by finish().
