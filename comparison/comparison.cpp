@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -94,6 +95,19 @@ struct TrajectoryComparer::LockstepReference {
             if (model.running()) model.step_finding_period();
             replaying = model.cycle_held();  // from the next sample on
             return model.state().p;
+        }
+        // next_position() of `n` samples into `out`; free flight in one
+        // loop (an Euler step without contact is the same in step_finding_period).
+        void next_positions(Vec3* out, std::size_t n) {
+            for (std::size_t i = 0; i < n;) {
+                if (started && !replaying && model.running() && model.repeat_period() == 0) {
+                    const auto flown = static_cast<std::size_t>(
+                        model.free_flight_centres(static_cast<std::int64_t>(n - i), out + i));
+                    i += flown;
+                    if (flown > 0) continue;
+                }
+                out[i++] = next_position();
+            }
         }
         // The position `ahead` samples after the next one, when replaying.
         const Vec3& replayed(std::size_t ahead) const {
@@ -185,42 +199,34 @@ TrajectoryComparer::LockstepReference& TrajectoryComparer::reference() {
     return *reference_;
 }
 
-// Sample n is compared with the reference's sample n; exact is read from
-// the track where the stream's time is the clock's (an imported stream's
-// may not be).
-inline void TrajectoryComparer::compare(const State& s) {
-    if (sample_ >= tracked_) return compare_untracked(s);
-    const auto n = static_cast<std::size_t>(sample_);
-    const double to_reference = stream_is_reference_ ? 0.0 : (s.p - track_->reference[n]).squaredNorm();
-    const double to_exact = (s.p - (s.t == clock_.t() ? track_->exact[n] : exact_.state(s.t).p)).squaredNorm();
-    clock_.advance();
-    ++sample_;
-    add(s.t, to_reference, to_exact);
-}
+void TrajectoryComparer::write(const State& s) { write_block({&s, 1}); }
 
-void TrajectoryComparer::compare_untracked(const State& s) {
-    const double to_reference =
-        stream_is_reference_ ? 0.0 : (s.p - reference().with([](auto& r) { return r.next_position(); })).squaredNorm();
-    const double to_exact = (s.p - exact_.state(s.t).p).squaredNorm();
-    ++sample_;
-    add(s.t, to_reference, to_exact);
-}
-
-void TrajectoryComparer::write(const State& s) { compare(s); }
-
+// On the shared track first; past it, on the comparer's own track, made a
+// chunk at a time just before it is read.
 void TrajectoryComparer::write_block(std::span<const State> states) {
-    while (!states.empty()) {
-        const auto on_track = static_cast<std::size_t>(std::clamp<std::int64_t>(
-            tracked_ - sample_, 0, static_cast<std::int64_t>(states.size())));
-        if (on_track == 0) {
-            compare_untracked(states.front());
-            states = states.subspan(1);
-            continue;
-        }
-        if (dim_ == 2) compare_tracked<2>(states.first(on_track));
-        else compare_tracked<3>(states.first(on_track));
+    if (sample_ < tracked_) {
+        const auto on_track =
+            static_cast<std::size_t>(std::min<std::int64_t>(tracked_ - sample_, std::ssize(states)));
+        const auto n = static_cast<std::size_t>(sample_);
+        compare_block<true>(states.first(on_track), track_->reference.data() + n, track_->exact.data() + n);
         states = states.subspan(on_track);
     }
+    while (!states.empty()) {
+        const std::span<const State> chunk = states.first(std::min(states.size(), kOwnTrack));
+        make_own_track(chunk);
+        compare_block<false>(chunk, own_reference_.data(), own_exact_.data());
+        states = states.subspan(chunk.size());
+    }
+}
+
+// Past the shared track: the reference stepped on and exact evaluated at
+// the stream's times, into arrays, each in its own loop.
+void TrajectoryComparer::make_own_track(std::span<const State> states) {
+    own_reference_.resize(kOwnTrack);
+    own_exact_.resize(kOwnTrack);
+    if (!stream_is_reference_)
+        reference().with([&](auto& r) { r.next_positions(own_reference_.data(), states.size()); });
+    for (std::size_t i = 0; i < states.size(); ++i) own_exact_[i] = exact_.state(states[i].t).p;
 }
 
 namespace {
@@ -235,21 +241,30 @@ double squared_distance(const Vec3& a, const Vec3& b) {
 
 }  // namespace
 
-// compare() of each state, all on the track, with the running figures in
+template <bool OnSharedTrack>
+void TrajectoryComparer::compare_block(std::span<const State> states, const Vec3* reference, const Vec3* exact) {
+    if (dim_ == 2) compare_block<2, OnSharedTrack>(states, reference, exact);
+    else compare_block<3, OnSharedTrack>(states, reference, exact);
+}
+
+// Sample n against the baselines' sample n, with the running figures in
 // locals for the block: as members behind pointers every sample stored and
-// reloaded them.
-template <int D>
-void TrajectoryComparer::compare_tracked(std::span<const State> states) {
+// reloaded them. On the shared track, exact is read where the stream's
+// time is the clock's (an imported stream's may not be).
+template <int D, bool OnSharedTrack>
+void TrajectoryComparer::compare_block(std::span<const State> states, const Vec3* reference, const Vec3* exact) {
     Stats to_reference = *vs_reference_, to_exact = *vs_exact_;
     DocumentClock clock = clock_;
-    const Vec3* reference = track_->reference.data() + sample_;
-    const Vec3* exact = track_->exact.data() + sample_;
     for (std::size_t i = 0; i < states.size(); ++i) {
         const State& s = states[i];
         const double dr = stream_is_reference_ ? 0.0 : squared_distance<D>(s.p, reference[i]);
-        const double de = s.t == clock.t() ? squared_distance<D>(s.p, exact[i])
-                                           : squared_distance<D>(s.p, exact_.state(s.t).p);
-        clock.advance();
+        double de;
+        if constexpr (OnSharedTrack) {
+            de = s.t == clock.t() ? squared_distance<D>(s.p, exact[i]) : squared_distance<D>(s.p, exact_.state(s.t).p);
+            clock.advance();
+        } else {
+            de = squared_distance<D>(s.p, exact[i]);
+        }
         to_reference.add(s.t, dr);
         to_exact.add(s.t, de);
         if (reference_series_) {
@@ -257,18 +272,19 @@ void TrajectoryComparer::compare_tracked(std::span<const State> states) {
             exact_series_->add(s.t, de);
         }
     }
-    sample_ += static_cast<std::int64_t>(states.size());
+    sample_ += std::ssize(states);
     clock_ = clock;
     *vs_reference_ = to_reference;
     *vs_exact_ = to_exact;
 }
 
-inline void TrajectoryComparer::add(double t, double to_reference, double to_exact) {
-    vs_reference_->add(t, to_reference);
-    vs_exact_->add(t, to_exact);
-    if (reference_series_) {
-        reference_series_->add(t, to_reference);
-        exact_series_->add(t, to_exact);
+void TrajectoryComparer::write_states(PeriodicTail::Cursor& at, std::int64_t count) {
+    std::array<State, kOwnTrack> block;
+    while (count > 0) {
+        const auto n = static_cast<std::size_t>(std::min<std::int64_t>(count, std::ssize(block)));
+        for (std::size_t i = 0; i < n; ++i) block[i] = at.next();
+        write_block(std::span<const State>(block.data(), n));
+        count -= static_cast<std::int64_t>(n);
     }
 }
 
@@ -284,7 +300,7 @@ void TrajectoryComparer::write_periodic(const PeriodicTail& tail) {
         const std::int64_t common = std::lcm(period, reference_period);
         return common <= kMaxReplayedPeriod ? common : 0;
     };
-    while (at.left() > 0 && sample_ < tracked_) write(at.next());
+    write_states(at, std::min(at.left(), std::max<std::int64_t>(tracked_ - sample_, 0)));
     if (at.left() == 0) return;
     std::int64_t common = 0;
     while (at.left() > 0 && (common = common_period()) == 0) write(at.next());

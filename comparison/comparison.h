@@ -110,15 +110,15 @@ private:
                        bool stream_is_reference);
     struct Stats;
     struct LockstepReference;
-    // write(), declared inline so that write_block's loop makes no call per state.
-    void compare(const State& s);
-    // Past the track: the reference stepped on and exact evaluated.
-    void compare_untracked(const State& s);
-    // A block whose states are all on the track (see write_block).
-    template <int D>
-    void compare_tracked(std::span<const State> states);
-    // One sample's squared distances (every figure is kept squared until read).
-    void add(double t, double to_reference, double to_exact);
+    // Compares a block with the baselines' positions at its samples (see write_block).
+    template <bool OnSharedTrack>
+    void compare_block(std::span<const State> states, const Vec3* reference, const Vec3* exact);
+    template <int D, bool OnSharedTrack>
+    void compare_block(std::span<const State> states, const Vec3* reference, const Vec3* exact);
+    static constexpr std::size_t kOwnTrack = 256;  // samples made at a time past the shared track
+    void make_own_track(std::span<const State> states);
+    // The cursor's next `count` states, written in blocks.
+    void write_states(PeriodicTail::Cursor& at, std::int64_t count);
     // Past the track: the reference as it stands after the track's samples.
     LockstepReference& reference();
     const ExactModel& exact_model_;
@@ -131,6 +131,7 @@ private:
     std::unique_ptr<LockstepReference> reference_;  // made when first needed past the track
     std::unique_ptr<Stats> vs_reference_, vs_exact_;
     std::optional<WindowMaxSeries> reference_series_, exact_series_;  // of squared distances
+    std::vector<Vec3> own_reference_, own_exact_;  // past the shared track: the current chunk's
 };
 
 // Bounce-by-bounce comparison of two summaries' apexes and floor contacts.

@@ -226,6 +226,19 @@ public:
     std::int64_t repeat_found_at() const { return repeat_found_at_; }
     std::int64_t repeat_period() const { return repeat_period_; }
 
+    // step() up to `most` times while the ball flies free (no contact, not
+    // on the careful path), with the centre after each step written to
+    // out[0 ..]: the same bits as state().p after each, with the state kept
+    // in registers rather than stored and reloaded each step. Returns the
+    // steps taken (0 at a contact step, on the careful path, or at the end).
+    std::int64_t free_flight_centres(std::int64_t most, Vec3* out) {
+        if (careful_) return 0;
+        return free_flight_steps(most, [&](std::int64_t n, const auto& q) {
+            Vec3& p = out[n];
+            for (int i = 0; i < 3; ++i) p[i] = i >= D ? 0.0 : (D == 2) ? q[i / 2][i % 2] + r_ : q[i / 2][i % 2];
+        });
+    }
+
     // The state in the scenario's terms: centre, velocity, time.
     State state() const {
         State s;
@@ -280,6 +293,12 @@ private:
     // the scalar code, so the same bits); a third component shares its pair
     // with a padding lane that never moves and is always inside.
     void free_flight() {
+        free_flight_steps(std::numeric_limits<std::int64_t>::max(), [](std::int64_t, const auto&) {});
+    }
+    // At most `most` free-flight steps, with `each(n, q)` called after step
+    // n with the position's pairs; returns the steps taken.
+    template <class Each>
+    std::int64_t free_flight_steps(std::int64_t most, Each&& each) {
         using Pair = double __attribute__((vector_size(16)));
         using PairMask = std::int64_t __attribute__((vector_size(16)));
         constexpr int kPairs = (D + 1) / 2;
@@ -301,7 +320,7 @@ private:
         const Pair dt = {dt_, dt_};
         DocumentClock clock = clock_;
         std::int64_t n = 0;
-        while (clock.running()) {
+        while (n < most && clock.running()) {
             std::array<Pair, kPairs> moved;
             PairMask inside = {-1, -1};
             for (int k = 0; k < kPairs; ++k) {
@@ -313,6 +332,7 @@ private:
                 q[k] = moved[k];
                 v[k] = v[k] + g[k];
             }
+            each(n, q);
             clock.advance();
             ++n;
         }
@@ -322,6 +342,7 @@ private:
         }
         clock_ = clock;
         steps_ += n;
+        return n;
     }
 
     // The state has been seen `period` steps ago: from here the states repeat
