@@ -86,8 +86,11 @@ public:
     static constexpr std::int64_t kSharedSamples = 1 << 17;
     static std::shared_ptr<const BaselineTrack> share_baselines(const Scenario& s, const ExactModel& exact,
                                                                 std::int64_t max_samples = kSharedSamples);
+    // A block of one.
     void write(const State& s) override;
-    // The same as write() of each, in one loop over the block.
+    // Each state of the block against the baselines' sample of the same
+    // index, in one loop per stretch of baselines (the shared track, then
+    // the comparer's own).
     void write_block(std::span<const State> states) override;
     // State by state until both baselines repeat as well (the reference at
     // its rest cycle, exact still); from there the distances repeat with the
