@@ -164,10 +164,6 @@ private:
             sound &= (s.p[i] >= low_limit_[i]) & (s.p[i] <= high_limit_[i]) & (std::abs(s.v[i]) <= largest);
         return sound;
     }
-    // One state's metrics, after `previous` (the stream's state before it;
-    // unused for the first). The sink has had it (record_pending passes it
-    // the whole block first). D: the axes to look at (see WallLimits); 2 only
-    // for a 2D scenario (3 gives the same bits).
     // What every state updates. record_pending keeps a copy in locals over
     // a block (as members, each sample stored and reloaded them) and syncs
     // it around the rare calls that read or change it (contacts, apexes).
@@ -179,6 +175,11 @@ private:
         bool apex_open = false;
         std::optional<double> rest_since;
     };
+    // One state's metrics into `r` (tracking_, or record_pending's copy of
+    // it), after `previous` (the stream's state before it;
+    // unused for the first). The sink has had it (record_pending passes it
+    // the whole block first). D: the axes to look at (see WallLimits); 2 only
+    // for a 2D scenario (3 gives the same bits).
     template <int D>
     void track(Tracking& r, const State& previous, const State& s, ContactMask contact) {
         track_bounds_and_energy<D>(r, s);
