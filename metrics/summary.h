@@ -132,7 +132,8 @@ public:
     bool on_state(const State& s, ContactMask contact) override {
         pending_states_[pending_size_] = s;
         pending_contacts_[pending_size_] = contact;
-        if (++pending_size_ == kBlock || !plainly_sound(s)) record_pending();
+        const bool sound = dim_ == 2 ? plainly_sound<2>(s) : plainly_sound<3>(s);
+        if (++pending_size_ == kBlock || !sound) record_pending();
         return !failed();
     }
 
@@ -157,10 +158,12 @@ private:
     static constexpr std::size_t kBlock = 256;  // 16 KB of states: within the first-level cache
     // Finite and inside the room: only a state that is not can fail the
     // run (diagnose), so the blocks stop a run where single states did.
+    // D: the axes the recorder looks at (see track).
+    template <int D>
     bool plainly_sound(const State& s) const {
         constexpr double largest = std::numeric_limits<double>::max();
         bool sound = true;
-        for (int i = 0; i < 3; ++i)
+        for (int i = 0; i < D; ++i)
             sound &= (s.p[i] >= low_limit_[i]) & (s.p[i] <= high_limit_[i]) & (std::abs(s.v[i]) <= largest);
         return sound;
     }

@@ -34,11 +34,6 @@ bool TraceDecimator::reverses(const Vec3& before, const Vec3& after) {
     return false;
 }
 
-void TraceDecimator::keep(const State& s) {
-    trace_.t.push_back(s.t);
-    trace_.p.push_back(s.p);
-}
-
 void TraceDecimator::write_periodic(const PeriodicTail& tail) {
     PeriodicTail::Cursor at(tail);
     // State by state while a turning point may still be kept: one whole

@@ -87,7 +87,10 @@ private:
         started_ = true;
     }
     static bool reverses(const Vec3& before, const Vec3& after);
-    void keep(const State& s);
+    void keep(const State& s) {
+        trace_.t.push_back(s.t);
+        trace_.p.push_back(s.p);
+    }
     std::int64_t stride_, until_kept_ = 0;
     std::size_t turning_points_ = 0;
     State previous_;
