@@ -157,12 +157,16 @@ std::shared_ptr<const BaselineTrack> TrajectoryComparer::share_baselines(const S
                                                                          std::int64_t max_samples) {
     auto track = std::make_shared<BaselineTrack>();
     track->after = std::make_unique<LockstepReference>(s);
+    DocumentClock clock(s.dt, s.duration);
+    // The clock's samples: the first state and every step after it.
+    const std::int64_t samples = std::min(max_samples - 1, clock.remaining_steps()) + 1;
+    track->reference.resize(static_cast<std::size_t>(samples));
+    track->exact.resize(static_cast<std::size_t>(samples));
+    track->after->with([&](auto& r) { r.next_positions(track->reference.data(), track->reference.size()); });
     ExactModel::Cursor at(exact);
-    for (DocumentClock clock(s.dt, s.duration); static_cast<std::int64_t>(track->reference.size()) < max_samples;
-         clock.advance()) {
-        track->reference.push_back(track->after->with([](auto& r) { return r.next_position(); }));
-        track->exact.push_back(at.state(clock.t()).p);
-        if (!clock.running()) break;
+    for (Vec3& p : track->exact) {
+        p = at.state(clock.t()).p;
+        clock.advance();
     }
     return track;
 }
