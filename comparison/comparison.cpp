@@ -230,7 +230,7 @@ void TrajectoryComparer::make_own_track(std::span<const State> states) {
     own_exact_.resize(kOwnTrack);
     if (!stream_is_reference_)
         reference().with([&](auto& r) { r.next_positions(own_reference_.data(), states.size()); });
-    for (std::size_t i = 0; i < states.size(); ++i) own_exact_[i] = exact_.state(states[i].t).p;
+    exact_.positions(states, own_exact_.data());
 }
 
 namespace {

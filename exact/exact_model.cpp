@@ -360,10 +360,28 @@ State ExactModel::state_at(double t) const {
 State ExactModel::evaluate(std::size_t segment, double t, TailHop& hop) const {
     const Segment& s = segments_[segment];
     if (s.zeno_tail) return tail_state(t, hop);
-    const double tau = t - s.t0;
-    State out{t, position_after(s.p0, s.v0, s.accel, tau), s.v0 + tau * s.accel};
-    clamp_into_room(out.p);
-    return out;
+    return State{t, flight_position(s, t), s.v0 + (t - s.t0) * s.accel};
+}
+
+Vec3 ExactModel::flight_position(const Segment& s, double t) const {
+    Vec3 p = position_after(s.p0, s.v0, s.accel, t - s.t0);
+    clamp_into_room(p);
+    return p;
+}
+
+void ExactModel::Cursor::positions(std::span<const State> at, Vec3* out) {
+    const std::vector<Segment>& segments = model_->segments_;
+    for (std::size_t i = 0; i < at.size();) {
+        out[i] = state(at[i].t).p;  // moves to the segment that holds the time
+        const Segment& s = segments[segment_];
+        ++i;
+        if (s.zeno_tail) continue;
+        // The times that state() would evaluate on this segment too.
+        const double next = segment_ + 1 < segments.size() ? segments[segment_ + 1].t0
+                                                           : std::numeric_limits<double>::infinity();
+        for (; i < at.size() && at[i].t >= at[i - 1].t && at[i].t < next; ++i)
+            out[i] = model_->flight_position(s, at[i].t);
+    }
 }
 
 bool ExactModel::still_from(std::size_t segment, double t) const {

@@ -93,6 +93,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace bouncecheck {
@@ -200,6 +201,9 @@ public:
             }
             return model_->evaluate(segment_, t, hop_);
         }
+        // state(t).p at each state's time, bit for bit: a stretch of times
+        // inside one free-flight segment in one loop, positions only.
+        void positions(std::span<const State> at, Vec3* out);
         std::size_t segment() const { return segment_; }
 
     private:
@@ -257,6 +261,8 @@ private:
     // The segment that holds t: the last to start by t (0 before the first).
     std::size_t segment_of(double t) const;
     State evaluate(std::size_t segment, double t, TailHop& hop) const;
+    // evaluate's position on a segment that is not the Zeno tail.
+    Vec3 flight_position(const Segment& s, double t) const;
     // Whether evaluate(segment, t') gives the same position and velocity for
     // every t' >= t.
     bool still_from(std::size_t segment, double t) const;

@@ -276,7 +276,8 @@ bool same_bits(const State& a, const State& b) {
 // The cursor a compared stream walks exact with gives state_at's bits at
 // every sample: through a summed Zeno tail (where it keeps the current
 // hop), corners, tangential gravity, fine steps that land many samples in
-// one hop, and times that step back or repeat (it searches again).
+// one hop, and times that step back or repeat (it searches again). Its
+// positions() of blocks of states give the same positions.
 TEST(ExactModelCursor, GivesStateAtsBitsAtEveryTime) {
     std::vector<Scenario> scenarios{seed_3d(), seed_2d(), drop(0.45, 9.81, 0.8, 0.9, {0.01, 0, 0})};
     Scenario fine = seed_3d();
@@ -290,21 +291,44 @@ TEST(ExactModelCursor, GivesStateAtsBitsAtEveryTime) {
         tails += model.summed_tail_contacts() != 0;
         ExactModel::Cursor cursor(model);
         std::int64_t samples = 0, differ = 0;
+        std::vector<State> stream;
         model.sample_document_clock([&](const State& st) {
             ++samples;
             differ += !same_bits(st, model.state_at(st.t));
             differ += !same_bits(cursor.state(st.t), st);
+            stream.push_back(st);
         });
         EXPECT_EQ(differ, 0) << s.name << " dim " << s.dim << " of " << samples << " samples";
         // Back and forth: every time its own answer.
         ExactModel::Cursor jumping(model);
         std::uniform_real_distribution<double> time(-0.1, s.duration + 0.1);
+        std::vector<State> random_times;
         for (int k = 0; k < 20'000; ++k) {
             const double t = time(rng);
             ASSERT_TRUE(same_bits(jumping.state(t), model.state_at(t))) << "t = " << t;
+            State at;
+            at.t = t;
+            random_times.push_back(at);
         }
         const double nan = std::nan("");
         EXPECT_TRUE(same_bits(jumping.state(nan), model.state_at(nan)));
+        // positions(): the stream in blocks of any size, then times that
+        // step back, repeat and include NaN.
+        std::sort(random_times.begin(), random_times.begin() + 10'000,
+                  [](const State& a, const State& b) { return a.t < b.t; });
+        random_times[5'000].t = random_times[4'999].t;
+        random_times[15'000].t = nan;
+        for (const std::vector<State>* times : {&stream, &random_times}) {
+            ExactModel::Cursor blocks(model);
+            std::vector<Vec3> out(times->size());
+            for (std::size_t begin = 0, size = 1; begin < times->size(); begin += size, size = size * 3 % 509 + 1)
+                blocks.positions(std::span<const State>(*times).subspan(begin, std::min(size, times->size() - begin)),
+                                 out.data() + begin);
+            std::int64_t positions_differ = 0;
+            for (std::size_t i = 0; i < times->size(); ++i)
+                positions_differ += std::memcmp(out[i].data(), model.state_at((*times)[i].t).p.data(), 3 * sizeof(double)) != 0;
+            EXPECT_EQ(positions_differ, 0) << s.name << " dim " << s.dim << " of " << times->size() << " times";
+        }
     }
     EXPECT_GE(tails, 3);  // the tail's hop cache is exercised
 }
