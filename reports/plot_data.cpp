@@ -45,24 +45,24 @@ void TraceDecimator::write_periodic(const PeriodicTail& tail) {
     const bool cycle_reverses = turning_points_ != before_cycle;
     while (cycle_reverses && turning_points_ < kPlotTurningPoints && at.left() > 0) write(at.next());
     // From here only the stride keeps states, and the last one is kept by finish().
-    while (until_kept_ < at.left()) {
-        at.skip(until_kept_);
+    while (progress_.until_kept < at.left()) {
+        at.skip(progress_.until_kept);
         previous_ = at.next();
         keep(previous_);
-        previous_kept_ = true;
-        until_kept_ = stride_ - 1;
+        progress_.previous_kept = true;
+        progress_.until_kept = stride_ - 1;
     }
     if (at.left() > 0) {
-        until_kept_ -= at.left();
+        progress_.until_kept -= at.left();
         at.skip(at.left() - 1);
         previous_ = at.next();
-        previous_kept_ = false;
+        progress_.previous_kept = false;
     }
 }
 
 PlotTrace TraceDecimator::finish() {
-    if (started_ && !previous_kept_) keep(previous_);
-    previous_kept_ = true;
+    if (progress_.started && !progress_.previous_kept) keep(previous_);
+    progress_.previous_kept = true;
     return std::move(trace_);
 }
 

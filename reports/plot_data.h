@@ -38,14 +38,18 @@ public:
     // expected_states: how many states the run will stream (sets the stride).
     explicit TraceDecimator(std::int64_t expected_states, std::size_t budget = kPlotPoints);
     void write(const State& s) override { write_block({&s, 1}); }
-    // Each state's predecessor read in place rather than copied aside.
+    // Each state's predecessor read in place rather than copied aside, the
+    // countdown and flags in locals for the block (as members, every state
+    // stored and reloaded them).
     void write_block(std::span<const State> states) override {
         if (states.empty()) return;
+        Progress progress = progress_;
         const State* previous = &previous_;
         for (const State& s : states) {
-            take(*previous, s);
+            take(progress, *previous, s);
             previous = &s;
         }
+        progress_ = progress;
         previous_ = states.back();
     }
     // The same kept states as write() of each, in O(period x turning
@@ -55,10 +59,14 @@ public:
     PlotTrace finish();
 
 private:
+    struct Progress {
+        std::int64_t until_kept = 0;  // states until the next one on the stride
+        bool started = false, previous_kept = false;
+    };
     // One state, after `previous` (the stream's state before it; unused
     // for the first). Inline, every state: a countdown rather than a
     // division for the stride, and one branch-free screen for a reversal.
-    void take(const State& previous, const State& s) {
+    void take(Progress& at, const State& previous, const State& s) {
         // A component that was nonzero and now has the other sign or is
         // zero, read from the bits: a ball at rest keeps subnormal
         // tangential velocities for about 1e5 states, and a product of two
@@ -73,28 +81,28 @@ private:
             const std::uint64_t sign_flips = (before ^ after) >> 63, now_zero = (after & kMagnitude) == 0;
             screen |= static_cast<std::uint64_t>((before & kMagnitude) != 0) & (sign_flips | now_zero);
         }
-        const bool turning = screen && started_ && turning_points_ < kPlotTurningPoints && reverses(previous.v, s.v);
+        const bool turning = screen && at.started && turning_points_ < kPlotTurningPoints && reverses(previous.v, s.v);
         if (turning) {
             // The state before the reversal too: the path's corner lies between them.
-            if (!previous_kept_) keep(previous);
+            if (!at.previous_kept) keep(previous);
             turning_points_ += 2;
         }
-        const bool on_stride = until_kept_-- == 0;
-        if (on_stride) until_kept_ = stride_ - 1;
+        const bool on_stride = at.until_kept-- == 0;
+        if (on_stride) at.until_kept = stride_ - 1;
         const bool kept = turning || on_stride;
         if (kept) keep(s);
-        previous_kept_ = kept;
-        started_ = true;
+        at.previous_kept = kept;
+        at.started = true;
     }
     static bool reverses(const Vec3& before, const Vec3& after);
     void keep(const State& s) {
         trace_.t.push_back(s.t);
         trace_.p.push_back(s.p);
     }
-    std::int64_t stride_, until_kept_ = 0;
+    std::int64_t stride_;
     std::size_t turning_points_ = 0;
     State previous_;
-    bool started_ = false, previous_kept_ = false;
+    Progress progress_;
     PlotTrace trace_;
 };
 
