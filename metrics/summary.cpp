@@ -60,12 +60,13 @@ void StreamRecorder::diagnose(const State& s) {
     }
 }
 
-void StreamRecorder::count_contacts(const State& previous, const State& s, ContactMask contact) {
+void StreamRecorder::count_contacts(const State& previous, const State& s, ContactMask contact,
+                                    bool after_first_state) {
     for (int i = 0; i < dim_; ++i) {
         for (const int side : {-1, +1}) {
             if (!(((side < 0 ? contact.lower : contact.upper) >> i) & 1u)) continue;
             ++contacts_;
-            if (contact_events_.size() < kKeptContacts && tracking_.states > 0) {
+            if (contact_events_.size() < kKeptContacts && after_first_state) {
                 // The velocity that meets the wall: a step of gravity after
                 // the last sample, as in the document's step (and Box2D's).
                 const Vec3 incoming = previous.v + gravity_ * (s.t - previous.t);
@@ -74,26 +75,18 @@ void StreamRecorder::count_contacts(const State& previous, const State& s, Conta
             }
         }
     }
-    if ((contact.lower >> vertical_) & 1u) {
-        ++floor_contacts_;
-        // The interval since the previous floor contact closes: its highest
-        // sample is an apex unless the ball never rose above the floor sample.
-        if (tracking_.apex_open && tracking_.apex.t < s.t) push_apex();
-        tracking_.apex_open = false;
-    }
+    if ((contact.lower >> vertical_) & 1u) ++floor_contacts_;
 }
 
 // The apex sample refined by the parabola through it and its two neighbours
 // (samples are dt apart): the vertex, if it lies within a step of the sample.
-void StreamRecorder::push_apex() {
-    const Tracking& r = tracking_;
-    Apex a = r.apex;
-    const double curvature = r.apex_before - 2 * r.apex.height + r.apex_after;  // NaN without both neighbours
+void StreamRecorder::push_apex(Apex a, double before, double after) {
+    const double curvature = before - 2 * a.height + after;  // NaN without both neighbours
     if (curvature < 0) {
-        const double offset = 0.5 * dt_ * (r.apex_before - r.apex_after) / curvature;
+        const double offset = 0.5 * dt_ * (before - after) / curvature;
         if (std::abs(offset) <= dt_) {
             a.t += offset;
-            a.height -= (r.apex_after - r.apex_before) * (r.apex_after - r.apex_before) / (8 * curvature);
+            a.height -= (after - before) * (after - before) / (8 * curvature);
         }
     }
     if (apexes_.size() < kKeptApexes) apexes_.push_back(a);
@@ -173,7 +166,8 @@ void StreamRecorder::on_periodic_tail(const PeriodicTail& tail) {
 void StreamRecorder::finish(SimulatorSummary& out) {
     record_pending();
     // A last interval whose highest sample is not its final one did turn over.
-    if (tracking_.apex_open && tracking_.apex.t < last_.t) push_apex();
+    if (tracking_.apex_open && tracking_.apex.t < last_.t)
+        push_apex(tracking_.apex, tracking_.apex_before, tracking_.apex_after);
     out.steps = tracking_.states > 0 ? tracking_.states - 1 : 0;
     out.contacts = contacts_;
     out.floor_contacts = floor_contacts_;

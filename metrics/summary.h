@@ -168,8 +168,8 @@ private:
         return sound;
     }
     // What every state updates. record_pending keeps a copy in locals over
-    // a block (as members, each sample stored and reloaded them) and syncs
-    // it around the rare calls that read or change it (contacts, apexes).
+    // a block (as members, each sample stored and reloaded them); the
+    // out-of-line calls on contacts take values, not the copy.
     struct Tracking {
         std::int64_t states = 0;
         double energy0 = 0, energy_max_rise = 0, max_penetration = 0;
@@ -187,9 +187,14 @@ private:
     void track(Tracking& r, const State& previous, const State& s, ContactMask contact) {
         track_bounds_and_energy<D>(r, s);
         if (contact.any()) {
-            tracking_ = r;
-            count_contacts(previous, s, contact);
-            r = tracking_;
+            count_contacts(previous, s, contact, r.states > 0);
+            // A floor contact closes the interval since the previous one: its
+            // highest sample is an apex unless the ball never rose above the
+            // floor sample.
+            if ((contact.lower >> vertical_) & 1u) {
+                if (r.apex_open && r.apex.t < s.t) push_apex(r.apex, r.apex_before, r.apex_after);
+                r.apex_open = false;
+            }
         }
         track_rest(r, s);
         track_apex(r, previous, s);
@@ -214,9 +219,10 @@ private:
     // Records why a state is unsound (the first time); finds nothing when
     // only the energy overflowed from a huge but finite velocity.
     void diagnose(const State& s);
-    // On tracking_ (track syncs it).
-    void count_contacts(const State& previous, const State& s, ContactMask contact);
-    void push_apex();
+    // Counts the contacts and keeps their events (after the first state only).
+    void count_contacts(const State& previous, const State& s, ContactMask contact, bool after_first_state);
+    // Keeps the apex sample refined by its neighbours' heights.
+    void push_apex(Apex apex, double height_before, double height_after);
     void track_apex(Tracking& r, const State& previous, const State& s) const {
         const double height = s.p[vertical_];
         if (!r.apex_open || height > r.apex.height) {
