@@ -116,6 +116,7 @@ void StreamRecorder::record_pending() {
     if (dim_ == 2) track_all.template operator()<2>();
     else track_all.template operator()<3>();
     last_ = states.back();
+    check_sound(last_);  // the only state of the block that can be unsound (on_state)
 }
 
 void StreamRecorder::on_periodic_tail(const PeriodicTail& tail) {
@@ -132,6 +133,7 @@ void StreamRecorder::on_periodic_tail(const PeriodicTail& tail) {
         for (std::int64_t i = 0; i < states; ++i) {
             ContactMask contact;
             const State s = at.next(&contact);
+            check_sound(s);
             track<3>(tracking_, last_, s, contact);
             last_ = s;
         }

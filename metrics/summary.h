@@ -133,7 +133,7 @@ public:
         pending_states_[pending_size_] = s;
         pending_contacts_[pending_size_] = contact;
         const bool sound = dim_ == 2 ? plainly_sound<2>(s) : plainly_sound<3>(s);
-        if (++pending_size_ == kBlock || !sound) record_pending();
+        if (++pending_size_ == kBlock || !sound) record_pending();  // which diagnoses it
         return !failed();
     }
 
@@ -157,8 +157,9 @@ public:
 private:
     static constexpr std::size_t kBlock = 256;  // 16 KB of states: within the first-level cache
     // Finite and inside the room: only a state that is not can fail the
-    // run (diagnose), so the blocks stop a run where single states did.
-    // D: the axes the recorder looks at (see track).
+    // run (diagnose), so the blocks stop a run where single states did,
+    // and such a state is always the last of its block. D: the axes the
+    // recorder looks at (see track).
     template <int D>
     bool plainly_sound(const State& s) const {
         constexpr double largest = std::numeric_limits<double>::max();
@@ -185,7 +186,7 @@ private:
     // for a 2D scenario (3 gives the same bits).
     template <int D>
     void track(Tracking& r, const State& previous, const State& s, ContactMask contact) {
-        track_bounds_and_energy<D>(r, s);
+        track_energy_and_penetration<D>(r, s);
         if (contact.any()) {
             count_contacts(previous, s, contact, r.states > 0);
             // A floor contact closes the interval since the previous one: its
@@ -202,23 +203,21 @@ private:
     }
 
     // Every state, inline and without a per-axis branch: the deepest
-    // penetration, the energy rise, and whether the state is sound (inside
-    // the room, finite). A non-finite position fails the room test; a
-    // non-finite velocity makes the energy NaN or +inf. Only an unsound
-    // state goes to diagnose(), which composes the failure.
+    // penetration and the energy rise. Soundness is on_state's test
+    // (plainly_sound), not repeated here.
     template <int D>
-    void track_bounds_and_energy(Tracking& r, const State& s) {
+    void track_energy_and_penetration(Tracking& r, const State& s) {
         const double energy = specific_energy<D>(s, gravity_);
-        bool inside = true;
-        for (int i = 0; i < D; ++i) inside &= (s.p[i] >= low_limit_[i]) & (s.p[i] <= high_limit_[i]);
-        if (!(inside & (energy < std::numeric_limits<double>::infinity()))) diagnose(s);
         if (r.states == 0) r.energy0 = energy;
         r.energy_max_rise = std::max(r.energy_max_rise, energy - r.energy0);
         r.max_penetration = std::max(r.max_penetration, walls_.penetration<D>(s.p));
     }
-    // Records why a state is unsound (the first time); finds nothing when
-    // only the energy overflowed from a huge but finite velocity.
+    // Records why a state is unsound (the first time).
     void diagnose(const State& s);
+    // diagnose() unless the state is plainly sound.
+    void check_sound(const State& s) {
+        if (!(dim_ == 2 ? plainly_sound<2>(s) : plainly_sound<3>(s))) diagnose(s);
+    }
     // Counts the contacts and keeps their events (after the first state only).
     void count_contacts(const State& previous, const State& s, ContactMask contact, bool after_first_state);
     // Keeps the apex sample refined by its neighbours' heights.
