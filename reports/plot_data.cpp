@@ -22,14 +22,15 @@ std::int64_t expected_states(const Scenario& s) {
     return static_cast<std::int64_t>(steps) + 1;
 }
 
-TraceDecimator::TraceDecimator(std::int64_t expected, std::size_t budget) : stride_(plot_stride(expected, budget)) {
+TraceDecimator::TraceDecimator(std::int64_t expected, int axes, std::size_t budget)
+    : stride_(plot_stride(expected, budget)), axes_(axes) {
     // The even samples' share, grown into once rather than by doubling.
     trace_.t.reserve(budget + 1);
     trace_.p.reserve(budget + 1);
 }
 
-bool TraceDecimator::reverses(const Vec3& before, const Vec3& after) {
-    for (int i = 0; i < 3; ++i)
+bool TraceDecimator::reverses(const Vec3& before, const Vec3& after, int axes) {
+    for (int i = 0; i < axes; ++i)
         if ((before[i] > 0 && after[i] <= 0) || (before[i] < 0 && after[i] >= 0)) return true;
     return false;
 }

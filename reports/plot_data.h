@@ -35,22 +35,15 @@ struct PlotTrace {
 // shows each bounce where it happened. The last state is always kept.
 class TraceDecimator final : public StateSink {
 public:
-    // expected_states: how many states the run will stream (sets the stride).
-    explicit TraceDecimator(std::int64_t expected_states, std::size_t budget = kPlotPoints);
+    // expected_states: how many states the run will stream (sets the
+    // stride); axes: the scene's (Scenario::dim), the only ones whose
+    // reversals are turning points (a 2D scene's third axis is not drawn).
+    TraceDecimator(std::int64_t expected_states, int axes, std::size_t budget = kPlotPoints);
     void write(const State& s) override { write_block({&s, 1}); }
-    // Each state's predecessor read in place rather than copied aside, the
-    // countdown and flags in locals for the block (as members, every state
-    // stored and reloaded them).
     void write_block(std::span<const State> states) override {
         if (states.empty()) return;
-        Progress progress = progress_;
-        const State* previous = &previous_;
-        for (const State& s : states) {
-            take(progress, *previous, s);
-            previous = &s;
-        }
-        progress_ = progress;
-        previous_ = states.back();
+        if (axes_ == 2) take_all<2>(states);
+        else take_all<3>(states);
     }
     // The same kept states as write() of each, in O(period x turning
     // points kept + kept states x log) instead of O(states).
@@ -63,9 +56,24 @@ private:
         std::int64_t until_kept = 0;  // states until the next one on the stride
         bool started = false, previous_kept = false;
     };
+    // Each state's predecessor read in place rather than copied aside, the
+    // countdown and flags in locals for the block (as members, every state
+    // stored and reloaded them). D: the scene's axes.
+    template <int D>
+    void take_all(std::span<const State> states) {
+        Progress progress = progress_;
+        const State* previous = &previous_;
+        for (const State& s : states) {
+            take<D>(progress, *previous, s);
+            previous = &s;
+        }
+        progress_ = progress;
+        previous_ = states.back();
+    }
     // One state, after `previous` (the stream's state before it; unused
     // for the first). Inline, every state: a countdown rather than a
     // division for the stride, and one branch-free screen for a reversal.
+    template <int D>
     void take(Progress& at, const State& previous, const State& s) {
         // A component that was nonzero and now has the other sign or is
         // zero, read from the bits: a ball at rest keeps subnormal
@@ -75,13 +83,13 @@ private:
         // asked: contacts and apexes).
         constexpr std::uint64_t kMagnitude = 0x7FFF'FFFF'FFFF'FFFFull;
         std::uint64_t screen = 0;
-        for (int i = 0; i < 3; ++i) {
+        for (int i = 0; i < D; ++i) {
             const auto before = std::bit_cast<std::uint64_t>(previous.v[i]);
             const auto after = std::bit_cast<std::uint64_t>(s.v[i]);
             const std::uint64_t sign_flips = (before ^ after) >> 63, now_zero = (after & kMagnitude) == 0;
             screen |= static_cast<std::uint64_t>((before & kMagnitude) != 0) & (sign_flips | now_zero);
         }
-        const bool turning = screen && at.started && turning_points_ < kPlotTurningPoints && reverses(previous.v, s.v);
+        const bool turning = screen && at.started && turning_points_ < kPlotTurningPoints && reverses(previous.v, s.v, D);
         if (turning) {
             // The state before the reversal too: the path's corner lies between them.
             if (!at.previous_kept) keep(previous);
@@ -94,12 +102,13 @@ private:
         at.previous_kept = kept;
         at.started = true;
     }
-    static bool reverses(const Vec3& before, const Vec3& after);
+    static bool reverses(const Vec3& before, const Vec3& after, int axes);
     void keep(const State& s) {
         trace_.t.push_back(s.t);
         trace_.p.push_back(s.p);
     }
     std::int64_t stride_;
+    int axes_;
     std::size_t turning_points_ = 0;
     State previous_;
     Progress progress_;

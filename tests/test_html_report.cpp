@@ -30,7 +30,7 @@ Scenario seed(const char* name) { return load_scenario(std::string(BOUNCECHECK_S
 TEST(TraceDecimator, KeepsEveryVerticalReversalWithinTheBudget) {
     const Scenario s = seed("seed-3d.toml");
     StateVector all;
-    TraceDecimator decimator(expected_states(s), 100);
+    TraceDecimator decimator(expected_states(s), s.dim, 100);
     record_run(*make_reference_simulator(), s, &all);
     for (const State& st : all.states) decimator.write(st);
     const PlotTrace trace = decimator.finish();
@@ -55,7 +55,7 @@ TEST(TraceDecimator, KeepsEveryVerticalReversalWithinTheBudget) {
 
 TEST(TraceDecimator, JitterDoesNotGrowTheTraceWithoutBound) {
     // A velocity that reverses every step for a million steps.
-    TraceDecimator decimator(1'000'000, 600);
+    TraceDecimator decimator(1'000'000, 3, 600);
     for (int i = 0; i < 1'000'000; ++i) {
         State st;
         st.t = i * 1e-3;
@@ -75,7 +75,7 @@ TEST(TraceDecimator, KeepsReversalsOfSubnormalVelocitiesAndNoOtherTinyChange) {
     const Vec3 velocities[] = {{tiny, 1, 0},  {2 * tiny, 1, 0}, {-tiny, 1, 0},     {-0x1p-1074, 1, 0},
                                {0.0, 1, 0},   {-0.0, 1, 0},     {underflowing, 1, 0}, {underflowing, 1, 0},
                                {2 * underflowing, 1, 0}};
-    TraceDecimator decimator(1'000'000, 600);  // a stride far beyond these states
+    TraceDecimator decimator(1'000'000, 3, 600);  // a stride far beyond these states
     for (std::size_t i = 0; i < std::size(velocities); ++i) {
         State st;
         st.t = static_cast<double>(i);
@@ -86,6 +86,23 @@ TEST(TraceDecimator, KeepsReversalsOfSubnormalVelocitiesAndNoOtherTinyChange) {
     // 0: the first state; 2 and 4 turn (sign, then zero), each with the
     // state before it; 8: the last.
     EXPECT_EQ(trace.t, (std::vector<double>{0, 1, 2, 3, 4, 8}));
+}
+
+// In 2D only the scene's two axes turn: a reversal on the third, which
+// the page does not draw, keeps no point; in 3D the same stream keeps it.
+TEST(TraceDecimator, InTwoDimensionsOnlyTheScenesAxesTurn) {
+    for (const int axes : {2, 3}) {
+        TraceDecimator decimator(1'000'000, axes, 600);  // a stride far beyond these states
+        for (int i = 0; i < 6; ++i) {
+            State st;
+            st.t = i;
+            st.v = Vec3(1, 1, i == 3 ? -1e-17 : 1e-17);  // the third axis reverses at 3 and back at 4
+            decimator.write(st);
+        }
+        const std::vector<double> kept = decimator.finish().t;
+        if (axes == 2) EXPECT_EQ(kept, (std::vector<double>{0, 5}));
+        else EXPECT_EQ(kept, (std::vector<double>{0, 2, 3, 4, 5}));
+    }
 }
 
 TEST(WindowMaxSeries, KeepsTheLargestValueOfEachWindowWithItsTime) {

@@ -421,12 +421,13 @@ TEST(PeriodicTail, PlotTraceOfATailMatchesStateByStateBitForBit) {
                              std::to_string(budget));
                 // The reference micro-bounces at rest: its cycle reverses,
                 // until the turning points' budget is spent.
-                TraceDecimator filled(expected_states(s), budget), each(expected_states(s), budget);
+                TraceDecimator filled(expected_states(s), s.dim, budget), each(expected_states(s), s.dim, budget);
                 ASSERT_TRUE(record_run(*make_reference_simulator(), s, &filled).filled_from.has_value());
                 stepped(s, &each);
                 expect_same_trace(filled.finish(), each.finish());
                 // Exact at rest: a cycle of one still state, never reversing.
-                TraceDecimator exact_filled(expected_states(s), budget), exact_each(expected_states(s), budget);
+                TraceDecimator exact_filled(expected_states(s), s.dim, budget),
+                    exact_each(expected_states(s), s.dim, budget);
                 ASSERT_TRUE(record_run(*make_exact_simulator(), s, &exact_filled).filled_from.has_value());
                 ExactModel(s).sample_document_clock([&](const State& st) { exact_each.write(st); });
                 expect_same_trace(exact_filled.finish(), exact_each.finish());
@@ -454,7 +455,7 @@ TEST(SinkBlocks, ComparisonAndPlotTakeBlocksOfAnySizeAsSingleStatesBitForBit) {
             blocked(s, exact, cut, exact.rest_time(), track);
         single.record_series(7);
         blocked.record_series(7);
-        TraceDecimator single_path(expected_states(s), 50), blocked_path(expected_states(s), 50);
+        TraceDecimator single_path(expected_states(s), s.dim, 50), blocked_path(expected_states(s), s.dim, 50);
         for (const State& st : stream) {
             single.write(st);
             single_path.write(st);

@@ -222,7 +222,7 @@ ComparedRun run_compared(const Simulator& sim, const Scenario& s, const RunReque
     if (request.plots) {
         // exact's own samples sit on the document clock; its plotted path is
         // the one with the contacts at their instants (Baselines::exact_path).
-        if (sim.name() != "exact") trace.emplace(states);
+        if (sim.name() != "exact") trace.emplace(states, s.dim);
         comparer.record_series(plot_stride(states));
     }
     try {
