@@ -89,7 +89,8 @@ private:
             const std::uint64_t sign_flips = (before ^ after) >> 63, now_zero = (after & kMagnitude) == 0;
             screen |= static_cast<std::uint64_t>((before & kMagnitude) != 0) & (sign_flips | now_zero);
         }
-        const bool turning = screen && at.started && turning_points_ < kPlotTurningPoints && reverses(previous.v, s.v, D);
+        const bool turning =
+            screen && at.started && turning_points_ < kPlotTurningPoints && reverses(previous.v, s.v, D);
         if (turning) {
             // The state before the reversal too: the path's corner lies between them.
             if (!at.previous_kept) keep(previous);

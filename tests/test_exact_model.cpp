@@ -326,7 +326,8 @@ TEST(ExactModelCursor, GivesStateAtsBitsAtEveryTime) {
                                  out.data() + begin);
             std::int64_t positions_differ = 0;
             for (std::size_t i = 0; i < times->size(); ++i)
-                positions_differ += std::memcmp(out[i].data(), model.state_at((*times)[i].t).p.data(), 3 * sizeof(double)) != 0;
+                positions_differ +=
+                    std::memcmp(out[i].data(), model.state_at((*times)[i].t).p.data(), 3 * sizeof(double)) != 0;
             EXPECT_EQ(positions_differ, 0) << s.name << " dim " << s.dim << " of " << times->size() << " times";
         }
     }
