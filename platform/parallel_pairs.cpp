@@ -339,7 +339,7 @@ private:
 
     void end(std::size_t task, const PairOutcome& o) {
         ++done_;
-        if (schedule_.finished) schedule_.finished(pairs_[task].first, pairs_[task].second, o, done_);
+        if (schedule_.finished) schedule_.finished(pairs_[task].first, pairs_[task].second, o, done_, pairs_.size());
     }
 
     Clock::duration deadline() const {
@@ -380,6 +380,15 @@ void run_pairs_in_parallel(std::size_t simulators, std::size_t items, const Pair
     std::vector<Pair> pairs;
     for (std::size_t sim = 0; sim < simulators; ++sim)
         for (std::size_t item = 0; item < items; ++item) pairs.emplace_back(sim, item);
+    if (!schedule.shard.whole()) {
+        std::vector<double> costs;
+        for (const auto& [sim, item] : pairs) costs.push_back(schedule.cost(sim, item));
+        const std::vector<int> shard_of = assign_shards(costs, schedule.shard.count);
+        std::vector<Pair> mine;
+        for (std::size_t i = 0; i < pairs.size(); ++i)
+            if (shard_of[i] == schedule.shard.index) mine.push_back(pairs[i]);
+        pairs = std::move(mine);
+    }
     if (pairs.empty()) return;
     std::stable_sort(pairs.begin(), pairs.end(),
                      [&](const Pair& a, const Pair& b) {

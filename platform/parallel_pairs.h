@@ -8,6 +8,8 @@
 // - a pair that hangs, even inside one engine step, is killed by a watchdog.
 #pragma once
 
+#include "platform/shard.h"
+
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -30,6 +32,9 @@ struct PairSchedule {
     // of one): the costliest pairs start first, so that no long pair starts
     // last and keeps one worker busy after the others are done.
     std::function<double(std::size_t simulator, std::size_t item)> cost;
+    // The part of the pairs this process runs (`--shard K/N`): the pairs that
+    // assign_shards gives shard K by the costs above. Default: all of them.
+    Shard shard;
     // Wall time after which a pair is killed with its worker and reported
     // hung (s); 0: no limit.
     double deadline_seconds = 0;
@@ -37,12 +42,13 @@ struct PairSchedule {
     // exception is a crashed pair with its message.
     std::function<std::string(std::size_t simulator, std::size_t item)> run;
     // In this process, as each pair ends, in the order they end: what became
-    // of it, and `done` pairs ended so far.
-    std::function<void(std::size_t simulator, std::size_t item, const PairOutcome& outcome, std::size_t done)>
+    // of it, and `done` pairs ended so far of the `total` this process runs.
+    std::function<void(std::size_t simulator, std::size_t item, const PairOutcome& outcome, std::size_t done,
+                       std::size_t total)>
         finished;
 };
 
-// Runs every pair of [0, simulators) x [0, items), costliest first, one pair
+// Runs every pair of [0, simulators) x [0, items) (of the schedule's shard), costliest first, one pair
 // at a time per worker; min(jobs, pairs) workers are started once, not per
 // pair (a fork costs about 3 ms), and replaced when one dies or is killed.
 void run_pairs_in_parallel(std::size_t simulators, std::size_t items, const PairSchedule& schedule);

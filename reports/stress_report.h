@@ -81,6 +81,9 @@ struct StressReport {
     std::vector<std::string> rows;        // in suite order
     std::vector<std::string> simulators;  // in request order
     std::vector<StressResult> results;    // case-major, simulators in request order
+    // results[i] is pair slots[i] of the whole run (case c, simulator e:
+    // c x simulators + e). Every pair unless the run was one shard of it.
+    std::vector<std::size_t> slots;
     double wall_seconds = 0;
     double budget_seconds = 0;
     MonteCarloSet monte_carlo;

@@ -40,6 +40,9 @@ struct SweepOrder {
 
 struct SweepResult {
     std::vector<SweepRow> rows;  // engine-major, in the request's order; dt in the request's order
+    // rows[i] is pair slots[i] of the whole run (engine e, dt d: e x dts + d).
+    // Every pair unless the run was one shard of it.
+    std::vector<std::size_t> slots;
     std::vector<SweepOrder> orders;  // one per engine, in the request's order
 };
 

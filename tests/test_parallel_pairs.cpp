@@ -37,7 +37,7 @@ std::map<std::pair<std::size_t, std::size_t>, Ended> run_all(
     schedule.cost = [](std::size_t, std::size_t item) { return static_cast<double>(item); };
     schedule.deadline_seconds = deadline;
     schedule.run = std::move(run);
-    schedule.finished = [&](std::size_t sim, std::size_t item, const PairOutcome& o, std::size_t done) {
+    schedule.finished = [&](std::size_t sim, std::size_t item, const PairOutcome& o, std::size_t done, std::size_t) {
         EXPECT_TRUE(ended.emplace(std::pair(sim, item), Ended{o, done}).second) << "pair ended twice";
     };
     run_pairs_in_parallel(simulators, items, schedule);
@@ -77,7 +77,7 @@ TEST(ParallelPairs, TheCostliestPairsStartFirst) {
     schedule.jobs = 1;
     schedule.cost = [](std::size_t sim, std::size_t item) { return sim == 1 ? 100.0 + item : static_cast<double>(item); };
     schedule.run = pid_and;
-    schedule.finished = [&](std::size_t sim, std::size_t item, const PairOutcome&, std::size_t) {
+    schedule.finished = [&](std::size_t sim, std::size_t item, const PairOutcome&, std::size_t, std::size_t) {
         order.emplace_back(sim, item);
     };
     run_pairs_in_parallel(2, 3, schedule);

@@ -128,7 +128,7 @@ std::vector<std::optional<ComparedRun>> run_isolated(const Scenario& s, const Ru
     schedule.deadline_seconds = request.budget_seconds;
     schedule.cost = [&](std::size_t k, std::size_t) { return sims[pooled[k]]->typical_ns_per_step(); };
     schedule.run = [&](std::size_t k, std::size_t) { return encode(run_compared(*sims[pooled[k]], s, request, base)); };
-    schedule.finished = [&](std::size_t k, std::size_t, const PairOutcome& ended, std::size_t) {
+    schedule.finished = [&](std::size_t k, std::size_t, const PairOutcome& ended, std::size_t, std::size_t) {
         ComparedRun o;
         std::string failure;
         if (ended.kind != PairOutcome::Kind::ok) {

@@ -2,10 +2,12 @@
 // invariants judged, the matrix and files written.
 #include "commands/command.h"
 
+#include "commands/shards.h"
 #include "commands/stress/stress_pipeline.h"
 #include "commands/stress/stress_suite.h"
 #include "registry/registry.h"
 #include "reports/provenance.h"
+#include "scenarios/scenario_toml.h"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -13,7 +15,11 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdint>
+#include <exception>
 #include <iterator>
+#include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -32,21 +38,77 @@ struct StressOptions {
     double budget = kDefaultBudgetSeconds;
     MonteCarloSet monte_carlo;
     ExternalOptions external;
+    std::string shard;  // K/N, or empty: the whole run
 };
 
-// Exit status of stress (README): 0 every invariant held; 1 an invariant
-// broke, a finding about a simulator; 3 a simulator threw or gave up, so the
-// matrix has a hole (over 1: the run is incomplete), or one hung and was
-// killed; 2 bad input.
-int command_stress(const StressOptions& opt) {
+// What a shard hands merge to plan the same run (all but --out and --shard).
+nlohmann::json to_json(const StressOptions& o) {
+    return {{"engines", o.engines},
+            {"jobs", o.jobs},
+            {"only", o.only},
+            {"budget", o.budget},
+            {"monte_carlo", {{"seed", o.monte_carlo.seed}, {"count", o.monte_carlo.count}}},
+            {"external", {{"declarations", o.external.declarations}, {"timeout", o.external.timeout_seconds}}}};
+}
+
+StressOptions stress_options_from(const nlohmann::json& j) {
+    StressOptions o;
+    o.engines = j.at("engines").get<std::string>();
+    o.jobs = j.at("jobs").get<int>();
+    o.only = j.at("only").get<std::vector<std::string>>();
+    o.budget = j.at("budget").get<double>();
+    o.monte_carlo = {j.at("monte_carlo").at("seed").get<std::uint64_t>(), j.at("monte_carlo").at("count").get<int>()};
+    o.external.declarations = j.at("external").at("declarations").get<std::vector<std::string>>();
+    o.external.timeout_seconds = j.at("external").at("timeout").get<double>();
+    return o;
+}
+
+// The run the options describe: its cases and simulators, before anything runs.
+struct StressPlan {
+    ExtraSimulators extra;
+    std::vector<std::unique_ptr<const Simulator>> built;
+    std::vector<StressCase> cases;
+    std::vector<const Simulator*> simulators;
+
+    std::vector<std::string> simulator_names() const {
+        std::vector<std::string> names;
+        for (const Simulator* sim : simulators) names.emplace_back(sim->name());
+        return names;
+    }
+    // stress.json's "parameters".
+    nlohmann::json parameters(const StressOptions& opt, const fs::path& out_dir) const {
+        nlohmann::json engines = nlohmann::json::array();
+        nlohmann::json origins = nlohmann::json::object();  // simulators from outside this build
+        for (const Simulator* sim : simulators) {
+            engines.push_back(std::string(sim->name()));
+            if (!sim->origin().empty()) origins[std::string(sim->name())] = std::string(sim->origin());
+        }
+        return {{"engines", engines},
+                {"origins", origins},
+                {"jobs", opt.jobs > 0 ? opt.jobs : 0},
+                {"only", opt.only},
+                {"budget_seconds", opt.budget},
+                {"out", out_dir.string()}};
+    }
+    // Everything that decides the run's results: shards and merge compare it.
+    std::string fingerprint(const StressOptions& opt) const {
+        nlohmann::json options = to_json(opt);
+        options.erase("jobs");
+        std::string inputs = options.dump() + "\n" + parameters(opt, {}).dump() + "\n";
+        for (const StressCase& c : cases) inputs += c.row + "\n" + scenario_toml(c.scenario);
+        return run_fingerprint("stress", inputs);
+    }
+};
+
+std::optional<StressPlan> plan_stress(const StressOptions& opt) {
     // A program silent for longer than a run's whole budget has hung: it is
     // killed then, not after the default ten minutes.
     ExternalOptions external = opt.external;
     external.timeout_seconds = std::min(external.timeout_seconds, opt.budget);
-    const auto extra = ExtraSimulators::from_options(external);
-    if (!extra) return kBadInput;
+    auto extra = ExtraSimulators::from_options(external);
+    if (!extra) return std::nullopt;
     auto scenarios = load_all(scenario_files(bundled_scenario_dir() / "stress"), extra->command_line_names());
-    if (!scenarios) return kBadInput;
+    if (!scenarios) return std::nullopt;
     std::vector<StressCase> cases = stress_suite(*scenarios, opt.monte_carlo);
     if (!opt.only.empty()) {
         std::vector<StressCase> chosen;
@@ -57,7 +119,7 @@ int command_stress(const StressOptions& opt) {
                 for (const auto& c : cases) rows.insert(c.row);
                 fmt::print(stderr, "error: --only: no stress scenario or row '{}' (rows: {})\n", name,
                            fmt::join(rows, ", "));
-                return kBadInput;
+                return std::nullopt;
             }
         }
         std::copy_if(cases.begin(), cases.end(), std::back_inserter(chosen), [&](const StressCase& c) {
@@ -66,39 +128,18 @@ int command_stress(const StressOptions& opt) {
         });
         cases = std::move(chosen);
     }
-    const auto all = built_simulators();
-    const auto selected = select_simulators(all, opt.engines);
-    if (!selected) return kBadInput;
-    const fs::path out_dir = opt.out_dir;
-    if (!create_out_dir(out_dir)) return kBadInput;
+    StressPlan plan{std::move(*extra), built_simulators(), std::move(cases), {}};
+    const auto selected = select_simulators(plan.built, opt.engines);
+    if (!selected) return std::nullopt;
+    plan.simulators = plan.extra.with_command_line(*selected);
+    return plan;
+}
 
-    StressRequest request;
-    request.simulators = extra->with_command_line(*selected);
-    request.jobs = opt.jobs;
-    request.budget_seconds = opt.budget;
-    request.on_progress = [](const StressResult& r, std::size_t done, std::size_t total) {
-        const bool lost = r.outcome == StressOutcome::crashed || r.outcome == StressOutcome::hung;
-        if (r.row == r.scenario || lost)
-            fmt::print(stderr, "[{}/{}] {} {}: {}{}{}\n", done, total, r.scenario, r.simulator, to_string(r.outcome),
-                       r.reason.empty() ? "" : ": ", r.reason);
-    };
-    StressReport report = run_stress(cases, request);
-    report.monte_carlo = opt.monte_carlo;
-    nlohmann::json engines = nlohmann::json::array();
-    nlohmann::json origins = nlohmann::json::object();  // simulators from outside this build
-    for (const Simulator* sim : request.simulators) {
-        engines.push_back(std::string(sim->name()));
-        if (!sim->origin().empty()) origins[std::string(sim->name())] = std::string(sim->origin());
-    }
-    const nlohmann::json parameters{{"engines", engines},
-                                    {"origins", origins},
-                                    {"jobs", opt.jobs > 0 ? opt.jobs : 0},
-                                    {"only", opt.only},
-                                    {"budget_seconds", opt.budget},
-                                    {"out", out_dir.string()}};
-    fmt::print("{}{}", format_stress_matrix(report), format_stress_failures(report));
-    write_stress(report, cases, parameters, out_dir, to_json(this_provenance(/*with_machine=*/true)));
-    fmt::print("\nwrote stress.json and stress.csv in {}\n", out_dir.string());
+// Exit status of stress (README): 0 every invariant held; 1 an invariant
+// broke, a finding about a simulator; 3 a simulator threw or gave up, so the
+// matrix has a hole (over 1: the run is incomplete), or one hung and was
+// killed; 2 bad input.
+int stress_exit_status(const StressReport& report) {
     const auto any = [&](StressOutcome o) {
         return std::any_of(report.results.begin(), report.results.end(),
                            [&](const StressResult& r) { return r.outcome == o; });
@@ -107,7 +148,75 @@ int command_stress(const StressOptions& opt) {
     return any(StressOutcome::fail) ? kThresholdExceeded : kOk;
 }
 
+// The matrix on the terminal, and stress.json, stress.csv and the failing generated scenarios in `out_dir`.
+int report_stress(StressReport report, const StressPlan& plan, const StressOptions& opt, const fs::path& out_dir,
+                  nlohmann::json parameters) {
+    report.monte_carlo = opt.monte_carlo;
+    fmt::print("{}{}", format_stress_matrix(report), format_stress_failures(report));
+    write_stress(report, plan.cases, parameters, out_dir, to_json(this_provenance(/*with_machine=*/true)));
+    fmt::print("\nwrote stress.json and stress.csv in {}\n", out_dir.string());
+    return stress_exit_status(report);
+}
+
+int command_stress(const StressOptions& opt) {
+    const auto plan = plan_stress(opt);
+    if (!plan) return kBadInput;
+    const fs::path out_dir = opt.out_dir;
+    if (!create_out_dir(out_dir)) return kBadInput;
+
+    StressRequest request;
+    request.simulators = plan->simulators;
+    request.jobs = opt.jobs;
+    request.budget_seconds = opt.budget;
+    request.shard = shard_of(opt.shard);
+    request.on_progress = [](const StressResult& r, std::size_t done, std::size_t total) {
+        const bool lost = r.outcome == StressOutcome::crashed || r.outcome == StressOutcome::hung;
+        if (r.row == r.scenario || lost)
+            fmt::print(stderr, "[{}/{}] {} {}: {}{}{}\n", done, total, r.scenario, r.simulator, to_string(r.outcome),
+                       r.reason.empty() ? "" : ": ", r.reason);
+    };
+    StressReport report = run_stress(plan->cases, request);
+    nlohmann::json parameters = plan->parameters(opt, out_dir);
+    if (!request.shard.whole()) {
+        // The shard's own results as files, and what merge needs to put them back.
+        parameters["shard"] = opt.shard;
+        ShardFile file{"stress", request.shard, plan->cases.size() * plan->simulators.size(), plan->fingerprint(opt),
+                       to_json(opt), report.wall_seconds, report.slots, {}};
+        for (const StressResult& r : report.results) file.results.push_back(encode_stress_result(r));
+        write_shard_file(out_dir, file);
+    }
+    return report_stress(std::move(report), *plan, opt, out_dir, std::move(parameters));
+}
+
 }  // namespace
+
+int merge_stress(const ShardSet& shards, const fs::path& out_dir) {
+    StressOptions opt;
+    try {
+        opt = stress_options_from(shards.options);
+    } catch (const std::exception& e) {
+        fmt::print(stderr, "error: the shards' stress options are unreadable: {}\n", e.what());
+        return kBadInput;
+    }
+    const auto plan = plan_stress(opt);
+    if (!plan) return kBadInput;
+    if (const std::string mine = plan->fingerprint(opt); mine != shards.fingerprint) {
+        fmt::print(stderr,
+                   "error: the shards ran another build or other inputs than this merge sees (fingerprint {}, "
+                   "here {}): merge with the build and the scenarios the shards ran\n",
+                   shards.fingerprint, mine);
+        return kBadInput;
+    }
+    StressReport report;
+    try {
+        report = stress_report_from_results(plan->cases, plan->simulator_names(), opt.budget, shards.results);
+    } catch (const std::exception& e) {
+        fmt::print(stderr, "error: a shard's result is unreadable: {}\n", e.what());
+        return kBadInput;
+    }
+    report.wall_seconds = shards.wall_seconds;
+    return report_stress(std::move(report), *plan, opt, out_dir, plan->parameters(opt, out_dir));
+}
 
 Command add_stress_command(CLI::App& app) {
     auto opt = std::make_shared<StressOptions>();
@@ -132,6 +241,7 @@ Command add_stress_command(CLI::App& app) {
         ->capture_default_str()
         ->check(CLI::Range(0, 10'000'000));
     command->add_option("--seed", opt->monte_carlo.seed, "Seed of the Monte-Carlo set")->capture_default_str();
+    add_shard_option(*command, opt->shard);
     add_external_options(*command, opt->external);
     return {command, [opt] { return command_stress(*opt); }};
 }

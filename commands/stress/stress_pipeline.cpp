@@ -13,6 +13,7 @@
 #include <exception>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 namespace bouncecheck {
@@ -216,13 +217,10 @@ StressResult run_stress_case(const StressCase& c, const Simulator& sim, double b
     return r;
 }
 
-namespace {
-
 // ------------------------------------------------ a result across a worker's channel (commands/wire.h)
 
-using nlohmann::json;
-
-std::string encode(const StressResult& r) {
+std::string encode_stress_result(const StressResult& r) {
+    using nlohmann::json;
     json checks = json::array();
     for (const InvariantCheck& c : r.checks)
         checks.push_back({static_cast<int>(c.invariant), c.checked, c.held, c.tolerance, c.worst,
@@ -230,12 +228,11 @@ std::string encode(const StressResult& r) {
     return wire::to_bytes({static_cast<int>(r.outcome), r.reason, checks, r.steps, r.run_seconds, r.ccd, r.substeps});
 }
 
-// Fills in what the worker computed; row, scenario and simulator are the parent's.
-void decode(const std::string& bytes, StressResult& r) {
-    const json j = wire::from_bytes(bytes);
+void decode_stress_result(const std::string& bytes, StressResult& r) {
+    const nlohmann::json j = wire::from_bytes(bytes);
     r.outcome = static_cast<StressOutcome>(j[0].get<int>());
     r.reason = j[1].get<std::string>();
-    for (const json& c : j[2])
+    for (const nlohmann::json& c : j[2])
         r.checks.push_back(InvariantCheck{static_cast<Invariant>(c[0].get<int>()), c[1].get<bool>(), c[2].get<bool>(),
                                           c[3].get<double>(), c[4].get<double>(), wire::optional_from<double>(c[5]),
                                           c[6].get<double>()});
@@ -245,23 +242,43 @@ void decode(const std::string& bytes, StressResult& r) {
     r.substeps = j[6].get<std::string>();
 }
 
+namespace {
+
+// The report's frame: rows in suite order, every pair's slot with its names.
+StressReport empty_report(const std::vector<StressCase>& cases, const std::vector<std::string>& simulators,
+                          double budget_seconds) {
+    StressReport report;
+    report.budget_seconds = budget_seconds;
+    for (const StressCase& c : cases)
+        if (std::find(report.rows.begin(), report.rows.end(), c.row) == report.rows.end()) report.rows.push_back(c.row);
+    report.simulators = simulators;
+    report.results.resize(cases.size() * simulators.size());
+    for (std::size_t slot = 0; slot < report.results.size(); ++slot) {
+        StressResult& r = report.results[slot];
+        const StressCase& c = cases[slot / simulators.size()];
+        r.row = c.row;
+        r.scenario = c.scenario.name;
+        r.simulator = simulators[slot % simulators.size()];
+        report.slots.push_back(slot);
+    }
+    return report;
+}
+
 }  // namespace
 
 double stress_deadline_seconds(double budget_seconds) { return 1.5 * budget_seconds + 1; }
 
 StressReport run_stress(const std::vector<StressCase>& cases, const StressRequest& request) {
     const auto wall_start = std::chrono::steady_clock::now();
-    StressReport report;
-    report.budget_seconds = request.budget_seconds;
-    for (const StressCase& c : cases)
-        if (std::find(report.rows.begin(), report.rows.end(), c.row) == report.rows.end()) report.rows.push_back(c.row);
-    for (const Simulator* sim : request.simulators) report.simulators.emplace_back(sim->name());
+    std::vector<std::string> names;
+    for (const Simulator* sim : request.simulators) names.emplace_back(sim->name());
+    StressReport report = empty_report(cases, names, request.budget_seconds);
     const std::size_t n_sim = request.simulators.size();
-    const std::size_t total = cases.size() * n_sim;
-    report.results.resize(total);
+    std::vector<bool> ran(report.results.size(), false);
 
     PairSchedule schedule;
     schedule.jobs = request.jobs;
+    schedule.shard = request.shard;
     schedule.deadline_seconds = stress_deadline_seconds(request.budget_seconds);
     schedule.cost = [&](std::size_t e, std::size_t c) {
         const Scenario& s = cases[c].scenario;
@@ -269,16 +286,14 @@ StressReport run_stress(const std::vector<StressCase>& cases, const StressReques
         return std::min(ns, request.budget_seconds * 1e9);  // a run ends at its budget
     };
     schedule.run = [&](std::size_t e, std::size_t c) {
-        return encode(run_stress_case(cases[c], *request.simulators[e], request.budget_seconds));
+        return encode_stress_result(run_stress_case(cases[c], *request.simulators[e], request.budget_seconds));
     };
-    schedule.finished = [&](std::size_t e, std::size_t c, const PairOutcome& o, std::size_t done) {
+    schedule.finished = [&](std::size_t e, std::size_t c, const PairOutcome& o, std::size_t done, std::size_t total) {
         StressResult& r = report.results[c * n_sim + e];
-        r.row = cases[c].row;
-        r.scenario = cases[c].scenario.name;
-        r.simulator = std::string(request.simulators[e]->name());
+        ran[c * n_sim + e] = true;
         if (o.kind == PairOutcome::Kind::ok) {
             try {
-                decode(o.payload, r);
+                decode_stress_result(o.payload, r);
             } catch (const std::exception& error) {
                 r.outcome = StressOutcome::crashed;
                 r.reason = fmt::format("its worker process sent an unreadable result: {}", error.what());
@@ -290,7 +305,28 @@ StressReport run_stress(const std::vector<StressCase>& cases, const StressReques
         if (request.on_progress) request.on_progress(r, done, total);
     };
     run_pairs_in_parallel(request.simulators.size(), cases.size(), schedule);
+    if (!request.shard.whole()) {  // only the shard's pairs, in the whole run's order
+        std::vector<StressResult> results;
+        std::vector<std::size_t> slots;
+        for (std::size_t slot = 0; slot < ran.size(); ++slot) {
+            if (!ran[slot]) continue;
+            results.push_back(std::move(report.results[slot]));
+            slots.push_back(slot);
+        }
+        report.results = std::move(results);
+        report.slots = std::move(slots);
+    }
     report.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    return report;
+}
+
+StressReport stress_report_from_results(const std::vector<StressCase>& cases,
+                                        const std::vector<std::string>& simulators, double budget_seconds,
+                                        const std::vector<std::string>& results) {
+    StressReport report = empty_report(cases, simulators, budget_seconds);
+    if (results.size() != report.results.size())
+        throw std::runtime_error(fmt::format("{} results for a run of {} pairs", results.size(), report.results.size()));
+    for (std::size_t slot = 0; slot < results.size(); ++slot) decode_stress_result(results[slot], report.results[slot]);
     return report;
 }
 

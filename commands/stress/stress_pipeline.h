@@ -6,6 +6,7 @@
 // ends in bounded time, and a cost per step that stays flat.
 #pragma once
 
+#include "platform/shard.h"
 #include "reports/stress_report.h"
 #include "scenarios/scenario.h"
 #include "simulators/simulator.h"
@@ -43,6 +44,7 @@ struct StressRequest {
     std::vector<const Simulator*> simulators;
     int jobs = 0;  // worker processes; 0: every core
     double budget_seconds = kDefaultBudgetSeconds;
+    Shard shard;  // --shard: only this part of the pairs (platform/shard.h)
     // Called in this process as each run ends, in the order they end.
     std::function<void(const StressResult&, std::size_t done, std::size_t total)> on_progress;
 };
@@ -50,9 +52,21 @@ struct StressRequest {
 // Runs `s` on `sim` and judges every invariant.
 StressResult run_stress_case(const StressCase& c, const Simulator& sim, double budget_seconds);
 
-// Every (case, simulator) pair, in parallel in worker processes
-// (run_pairs_in_parallel): a run that crashes or hangs its process is that
-// run's result only.
+// Every (case, simulator) pair (of the request's shard), in parallel in
+// worker processes (run_pairs_in_parallel): a run that crashes or hangs its
+// process is that run's result only.
 StressReport run_stress(const std::vector<StressCase>& cases, const StressRequest& request);
+
+// A result as bytes that keep every double's bits (commands/wire.h), for a
+// worker's channel and a shard's file, and back. Row, scenario and simulator
+// are not in the bytes: the reader knows them from the pair.
+std::string encode_stress_result(const StressResult& r);
+void decode_stress_result(const std::string& bytes, StressResult& r);
+// The report of the whole run from every pair's bytes, in slot order (every
+// slot once; merge checks that): the same report, bit for bit, that the
+// unsharded run makes, apart from wall_seconds, which is the caller's.
+StressReport stress_report_from_results(const std::vector<StressCase>& cases,
+                                        const std::vector<std::string>& simulators, double budget_seconds,
+                                        const std::vector<std::string>& results);
 
 }  // namespace bouncecheck

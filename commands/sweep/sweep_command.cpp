@@ -1,10 +1,12 @@
 // `bouncecheck sweep`: the work-precision sweep of one scenario over a series of dt.
 #include "commands/command.h"
 
+#include "commands/shards.h"
 #include "commands/sweep/sweep_pipeline.h"
 #include "registry/registry.h"
 #include "reports/provenance.h"
 #include "scenarios/loader.h"
+#include "scenarios/scenario_toml.h"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -12,6 +14,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,16 +35,82 @@ struct SweepOptions {
     double budget = 0;  // s per pair; 0: no limit
     std::string out_dir = "bouncecheck-out";
     ExternalOptions external;
+    std::string shard;  // K/N, or empty: the whole sweep
 };
 
-int command_sweep(const SweepOptions& opt) {
+// What a shard hands merge to plan the same sweep (all but --out and --shard).
+nlohmann::json to_json(const SweepOptions& o) {
+    return {{"file", o.file},
+            {"engines", o.engines},
+            {"dt", o.dt},
+            {"repeat", o.repeat},
+            {"jobs", o.jobs},
+            {"budget", o.budget},
+            {"external", {{"declarations", o.external.declarations}, {"timeout", o.external.timeout_seconds}}}};
+}
+
+SweepOptions sweep_options_from(const nlohmann::json& j) {
+    SweepOptions o;
+    o.file = j.at("file").get<std::string>();
+    o.engines = j.at("engines").get<std::string>();
+    o.dt = j.at("dt").get<std::string>();
+    o.repeat = j.at("repeat").get<int>();
+    o.jobs = j.at("jobs").get<int>();
+    o.budget = j.at("budget").get<double>();
+    o.external.declarations = j.at("external").at("declarations").get<std::vector<std::string>>();
+    o.external.timeout_seconds = j.at("external").at("timeout").get<double>();
+    return o;
+}
+
+// The sweep the options describe: its scenario, time steps and simulators, before anything runs.
+struct SweepPlan {
+    ExtraSimulators extra;
+    std::vector<std::unique_ptr<const Simulator>> built;
+    Scenario scenario;
+    std::vector<double> dts;
+    std::vector<const Simulator*> simulators;
+
+    std::vector<std::string> simulator_names() const {
+        std::vector<std::string> names;
+        for (const Simulator* sim : simulators) names.emplace_back(sim->name());
+        return names;
+    }
+    // sweep.json's "parameters".
+    nlohmann::json parameters(const SweepOptions& opt, const fs::path& out_dir) const {
+        nlohmann::json engines = nlohmann::json::array();
+        nlohmann::json origins = nlohmann::json::object();  // simulators from outside this build
+        for (const Simulator* sim : simulators) {
+            engines.push_back(std::string(sim->name()));
+            if (!sim->origin().empty()) origins[std::string(sim->name())] = std::string(sim->origin());
+        }
+        return {{"scenario_file", opt.file},
+                {"engines", engines},
+                {"origins", origins},
+                {"dt", dts},
+                {"dt_source", opt.dt.empty() ? "default" : "--dt"},
+                {"dt_argument", opt.dt},
+                {"repeat", opt.repeat},
+                {"jobs", opt.jobs > 0 ? opt.jobs : 0},
+                {"budget_seconds", opt.budget},
+                {"out", out_dir.string()}};
+    }
+    // Everything that decides the sweep's results: shards and merge compare it.
+    std::string fingerprint(const SweepOptions& opt) const {
+        nlohmann::json options = to_json(opt);
+        options.erase("jobs");
+        return run_fingerprint("sweep", options.dump() + "\n" + parameters(opt, {}).dump() + "\n" +
+                                            scenario_toml(scenario));
+    }
+};
+
+std::optional<SweepPlan> plan_sweep(const SweepOptions& opt) {
     // A program silent for longer than its pair's whole budget has hung.
     ExternalOptions external = opt.external;
     if (opt.budget > 0) external.timeout_seconds = std::min(external.timeout_seconds, opt.budget);
     auto extra = ExtraSimulators::from_options(external);
-    if (!extra) return kBadInput;
+    if (!extra) return std::nullopt;
     auto scenarios = load_all({opt.file}, extra->command_line_names());
-    if (!scenarios) return kBadInput;
+    if (!scenarios) return std::nullopt;
     const Scenario& s = scenarios->front();
 
     std::vector<double> dts;
@@ -49,39 +120,58 @@ int command_sweep(const SweepOptions& opt) {
         DtParse parsed = parse_dt_list(opt.dt);
         if (!parsed.error.empty()) {
             fmt::print(stderr, "error: --dt {}\n", parsed.error);
-            return kBadInput;
+            return std::nullopt;
         }
         dts = std::move(parsed.dts);
     }
     for (double dt : dts) {
         if (dt > s.duration) {
             fmt::print(stderr, "error: --dt {}: larger than the scenario's duration {}\n", dt, s.duration);
-            return kBadInput;
+            return std::nullopt;
         }
         if (dt < kMinDt) {
             fmt::print(stderr, "error: --dt {}: below the smallest time step, {:g} s\n", dt, kMinDt);
-            return kBadInput;
+            return std::nullopt;
         }
         if (s.duration / dt > kMaxSteps) {
             fmt::print(stderr, "error: --dt {}: more than {:.0e} steps over {} s\n", dt, kMaxSteps, s.duration);
-            return kBadInput;
+            return std::nullopt;
         }
     }
 
+    SweepPlan plan{std::move(*extra), built_simulators(), s, std::move(dts), {}};
     // exact is the truth every error is measured against: never swept.
-    const auto all = built_simulators();
     const auto selected =
-        select_simulators(all, opt.engines, "exact", "exact is the truth the sweep measures against");
-    if (!selected) return kBadInput;
+        select_simulators(plan.built, opt.engines, "exact", "exact is the truth the sweep measures against");
+    if (!selected) return std::nullopt;
+    plan.simulators = plan.extra.for_scenario(plan.scenario, *selected);
+    return plan;
+}
+
+// The table on the terminal, and sweep.csv, sweep.json and sweep.html in `out_dir`.
+int report_sweep(const SweepResult& result, const SweepPlan& plan, const fs::path& out_dir,
+                 const nlohmann::json& parameters, double wall_seconds) {
+    fmt::print("{}", format_sweep(plan.scenario, result));
+    write_sweep(plan.scenario, result, parameters, out_dir, to_json(this_provenance(/*with_machine=*/true)));
+    fmt::print("\nwrote sweep.csv, sweep.json and sweep.html in {} ({:.2f} s)\n", out_dir.string(), wall_seconds);
+    const bool any_failed = std::any_of(result.rows.begin(), result.rows.end(),
+                                        [](const SweepRow& r) { return r.status == RunStatus::failed; });
+    return any_failed ? kSimulatorFailed : kOk;
+}
+
+int command_sweep(const SweepOptions& opt) {
+    const auto plan = plan_sweep(opt);
+    if (!plan) return kBadInput;
     const fs::path out_dir = opt.out_dir;
     if (!create_out_dir(out_dir)) return kBadInput;
 
     SweepRequest request;
-    request.simulators = extra->for_scenario(s, *selected);
-    request.dts = dts;
+    request.simulators = plan->simulators;
+    request.dts = plan->dts;
     request.repeat = opt.repeat;
     request.jobs = opt.jobs;
     request.budget_seconds = opt.budget;
+    request.shard = shard_of(opt.shard);
     request.on_progress = [](const SweepRow& row, std::size_t done, std::size_t total) {
         if (row.status == RunStatus::ok)
             fmt::print(stderr, "[{}/{}] {} dt={:.6g}: error {:.4e} m, {:.1f} ns/step\n", done, total, row.engine, row.dt,
@@ -91,34 +181,48 @@ int command_sweep(const SweepOptions& opt) {
                        to_string(row.status), row.reason);
     };
     const auto wall_start = std::chrono::steady_clock::now();
-    const SweepResult result = run_sweep(s, request);
+    const SweepResult result = run_sweep(plan->scenario, request);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-
-    nlohmann::json engines = nlohmann::json::array();
-    nlohmann::json origins = nlohmann::json::object();  // simulators from outside this build
-    for (const Simulator* sim : request.simulators) {
-        engines.push_back(std::string(sim->name()));
-        if (!sim->origin().empty()) origins[std::string(sim->name())] = std::string(sim->origin());
+    nlohmann::json parameters = plan->parameters(opt, out_dir);
+    if (!request.shard.whole()) {
+        // The shard's own rows as files, and what merge needs to put them back.
+        parameters["shard"] = opt.shard;
+        ShardFile file{"sweep", request.shard, plan->dts.size() * plan->simulators.size(), plan->fingerprint(opt),
+                       to_json(opt), wall, result.slots, {}};
+        for (const SweepRow& row : result.rows) file.results.push_back(encode_sweep_row(row));
+        write_shard_file(out_dir, file);
     }
-    const nlohmann::json parameters{{"scenario_file", opt.file},
-                                    {"engines", engines},
-                                    {"origins", origins},
-                                    {"dt", dts},
-                                    {"dt_source", opt.dt.empty() ? "default" : "--dt"},
-                                    {"dt_argument", opt.dt},
-                                    {"repeat", opt.repeat},
-                                    {"jobs", opt.jobs > 0 ? opt.jobs : 0},
-                                    {"budget_seconds", opt.budget},
-                                    {"out", out_dir.string()}};
-    fmt::print("{}", format_sweep(s, result));
-    write_sweep(s, result, parameters, out_dir, to_json(this_provenance(/*with_machine=*/true)));
-    fmt::print("\nwrote sweep.csv, sweep.json and sweep.html in {} ({:.2f} s)\n", out_dir.string(), wall);
-    const bool any_failed = std::any_of(result.rows.begin(), result.rows.end(),
-                                        [](const SweepRow& r) { return r.status == RunStatus::failed; });
-    return any_failed ? kSimulatorFailed : kOk;
+    return report_sweep(result, *plan, out_dir, parameters, wall);
 }
 
 }  // namespace
+
+int merge_sweep(const ShardSet& shards, const fs::path& out_dir) {
+    SweepOptions opt;
+    try {
+        opt = sweep_options_from(shards.options);
+    } catch (const std::exception& e) {
+        fmt::print(stderr, "error: the shards' sweep options are unreadable: {}\n", e.what());
+        return kBadInput;
+    }
+    const auto plan = plan_sweep(opt);
+    if (!plan) return kBadInput;
+    if (const std::string mine = plan->fingerprint(opt); mine != shards.fingerprint) {
+        fmt::print(stderr,
+                   "error: the shards ran another build or other inputs than this merge sees (fingerprint {}, "
+                   "here {}): merge with the build and the scenario file the shards ran\n",
+                   shards.fingerprint, mine);
+        return kBadInput;
+    }
+    SweepResult result;
+    try {
+        result = sweep_result_from_rows(plan->simulator_names(), plan->dts, shards.results);
+    } catch (const std::exception& e) {
+        fmt::print(stderr, "error: a shard's row is unreadable: {}\n", e.what());
+        return kBadInput;
+    }
+    return report_sweep(result, *plan, out_dir, plan->parameters(opt, out_dir), shards.wall_seconds);
+}
 
 Command add_sweep_command(CLI::App& app) {
     auto opt = std::make_shared<SweepOptions>();
@@ -141,6 +245,7 @@ Command add_sweep_command(CLI::App& app) {
                         "is killed and fails as hung (default: no limit)")
         ->check(CLI::Range(0.001, 1e7));
     command->add_option("--out", opt->out_dir, "Output folder for sweep.csv, sweep.json and sweep.html")->capture_default_str();
+    add_shard_option(*command, opt->shard);
     add_external_options(*command, opt->external);
     return {command, [opt] { return command_sweep(*opt); }};
 }

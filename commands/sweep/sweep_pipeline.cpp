@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <exception>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 #include <utility>
@@ -168,19 +169,16 @@ SweepOrder fit_order(const std::vector<SweepRow>& rows, const std::string& engin
     return o;
 }
 
-namespace {
-
 // ------------------------------------------------ a row across a worker's channel (commands/wire.h)
 
-std::string encode(const SweepRow& r) {
+std::string encode_sweep_row(const SweepRow& r) {
     using wire::optional;
     return wire::to_bytes({static_cast<int>(r.status), r.reason, optional(r.error), optional(r.bounce_error),
                            optional(r.ns_per_step), optional(r.sec_per_sim_sec), optional(r.steps),
                            optional(r.min_seconds)});
 }
 
-// Fills in what the worker computed; engine and dt are the parent's.
-void decode(const std::string& bytes, SweepRow& r) {
+void decode_sweep_row(const std::string& bytes, SweepRow& r) {
     const nlohmann::json j = wire::from_bytes(bytes);
     r.status = static_cast<RunStatus>(j[0].get<int>());
     r.reason = j[1].get<std::string>();
@@ -192,34 +190,55 @@ void decode(const std::string& bytes, SweepRow& r) {
     r.min_seconds = wire::optional_from<double>(j[7]);
 }
 
+namespace {
+
+// The sweep's frame: every pair's slot with its engine and dt.
+SweepResult empty_result(const std::vector<std::string>& simulators, const std::vector<double>& dts) {
+    SweepResult result;
+    for (const std::string& engine : simulators)
+        for (double dt : dts) {
+            SweepRow row;
+            row.engine = engine;
+            row.dt = dt;
+            result.slots.push_back(result.rows.size());
+            result.rows.push_back(std::move(row));
+        }
+    return result;
+}
+
+void fit_orders(const std::vector<std::string>& simulators, SweepResult& result) {
+    for (const std::string& engine : simulators) result.orders.push_back(fit_order(result.rows, engine));
+}
+
 }  // namespace
 
 SweepResult run_sweep(const Scenario& s, const SweepRequest& request) {
+    std::vector<std::string> names;
+    for (const Simulator* sim : request.simulators) names.emplace_back(sim->name());
+    SweepResult result = empty_result(names, request.dts);
     const std::size_t n_dt = request.dts.size();
-    const std::size_t total = request.simulators.size() * n_dt;
-    SweepResult result;
-    result.rows.resize(total);
+    std::vector<bool> ran(result.rows.size(), false);
 
     const int repeat = std::max(1, request.repeat);
     PairSchedule schedule;
     schedule.jobs = request.jobs;
+    schedule.shard = request.shard;
     schedule.deadline_seconds = request.budget_seconds;
     schedule.cost = [&](std::size_t e, std::size_t d) {
         return s.duration / request.dts[d] * request.simulators[e]->typical_ns_per_step();
     };
     schedule.run = [&](std::size_t e, std::size_t d) {
-        return encode(run_pair(s, *request.simulators[e], request.dts[d], repeat));
+        return encode_sweep_row(run_pair(s, *request.simulators[e], request.dts[d], repeat));
     };
-    schedule.finished = [&](std::size_t e, std::size_t d, const PairOutcome& o, std::size_t done) {
+    schedule.finished = [&](std::size_t e, std::size_t d, const PairOutcome& o, std::size_t done, std::size_t total) {
         SweepRow& row = result.rows[e * n_dt + d];
-        row.engine = std::string(request.simulators[e]->name());
-        row.dt = request.dts[d];
+        ran[e * n_dt + d] = true;
         if (o.kind != PairOutcome::Kind::ok) {
             row = failed_row(row.engine, row.dt,
                              fmt::format("{}: {}", o.kind == PairOutcome::Kind::hung ? "hung" : "crashed", o.failure));
         } else {
             try {
-                decode(o.payload, row);
+                decode_sweep_row(o.payload, row);
             } catch (const std::exception& error) {
                 row = failed_row(row.engine, row.dt,
                                  fmt::format("its worker process sent an unreadable result: {}", error.what()));
@@ -228,8 +247,28 @@ SweepResult run_sweep(const Scenario& s, const SweepRequest& request) {
         if (request.on_progress) request.on_progress(row, done, total);
     };
     run_pairs_in_parallel(request.simulators.size(), n_dt, schedule);
+    if (!request.shard.whole()) {  // only the shard's pairs, in the whole sweep's order
+        std::vector<SweepRow> rows;
+        std::vector<std::size_t> slots;
+        for (std::size_t slot = 0; slot < ran.size(); ++slot) {
+            if (!ran[slot]) continue;
+            rows.push_back(std::move(result.rows[slot]));
+            slots.push_back(slot);
+        }
+        result.rows = std::move(rows);
+        result.slots = std::move(slots);
+    }
+    fit_orders(names, result);
+    return result;
+}
 
-    for (const Simulator* sim : request.simulators) result.orders.push_back(fit_order(result.rows, std::string(sim->name())));
+SweepResult sweep_result_from_rows(const std::vector<std::string>& simulators, const std::vector<double>& dts,
+                                   const std::vector<std::string>& rows) {
+    SweepResult result = empty_result(simulators, dts);
+    if (rows.size() != result.rows.size())
+        throw std::runtime_error(fmt::format("{} rows for a sweep of {} pairs", rows.size(), result.rows.size()));
+    for (std::size_t slot = 0; slot < rows.size(); ++slot) decode_sweep_row(rows[slot], result.rows[slot]);
+    fit_orders(simulators, result);
     return result;
 }
 

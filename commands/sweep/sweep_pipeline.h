@@ -3,6 +3,7 @@
 // convergence order fitted over the series.
 #pragma once
 
+#include "platform/shard.h"
 #include "reports/sweep_report.h"
 #include "scenarios/scenario.h"
 #include "simulators/simulator.h"
@@ -42,6 +43,7 @@ struct SweepRequest {
     // Wall-time limit of one pair, its timed repeats included (s): past it the
     // pair's worker process is killed and the row fails as hung. 0: no limit.
     double budget_seconds = 0;
+    Shard shard;  // --shard: only this part of the pairs (platform/shard.h)
     // Called in this process as each pair ends, in the order they end.
     std::function<void(const SweepRow& row, std::size_t done, std::size_t total)> on_progress;
 };
@@ -52,6 +54,17 @@ struct SweepRequest {
 // the timings do). A simulator that cannot run the scenario, or fails, is a
 // row with its status and reason.
 SweepResult run_sweep(const Scenario& s, const SweepRequest& request);
+
+// A row as bytes that keep every double's bits (commands/wire.h), for a
+// worker's channel and a shard's file, and back. Engine and dt are not in the
+// bytes: the reader knows them from the pair.
+std::string encode_sweep_row(const SweepRow& r);
+void decode_sweep_row(const std::string& bytes, SweepRow& r);
+// The whole sweep from every pair's bytes, in slot order (every slot once;
+// merge checks that), with the orders fitted: the same result, bit for bit,
+// that the unsharded sweep makes.
+SweepResult sweep_result_from_rows(const std::vector<std::string>& simulators, const std::vector<double>& dts,
+                                   const std::vector<std::string>& rows);
 
 // Least-squares slope of log(error) against log(dt) over `engine`'s ok rows with error > 0.
 SweepOrder fit_order(const std::vector<SweepRow>& rows, const std::string& engine);
