@@ -17,7 +17,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <exception>
-#include <iterator>
 #include <memory>
 #include <optional>
 #include <set>
@@ -91,11 +90,14 @@ struct StressPlan {
                 {"out", out_dir.string()}};
     }
     // Everything that decides the run's results: shards and merge compare it.
+    // The generated scenarios are the build's and the options' (the seed):
+    // only the files' scenarios are read from outside.
     std::string fingerprint(const StressOptions& opt) const {
         nlohmann::json options = to_json(opt);
         options.erase("jobs");
-        std::string inputs = options.dump() + "\n" + parameters(opt, {}).dump() + "\n";
-        for (const StressCase& c : cases) inputs += c.row + "\n" + scenario_toml(c.scenario);
+        std::string inputs = fmt::format("{}\n{}\n{} cases\n", options.dump(), parameters(opt, {}).dump(), cases.size());
+        for (const StressCase& c : cases)
+            if (!c.generated) inputs += c.row + "\n" + scenario_toml(c.scenario);
         return run_fingerprint("stress", inputs);
     }
 };
@@ -111,7 +113,6 @@ std::optional<StressPlan> plan_stress(const StressOptions& opt) {
     if (!scenarios) return std::nullopt;
     std::vector<StressCase> cases = stress_suite(*scenarios, opt.monte_carlo);
     if (!opt.only.empty()) {
-        std::vector<StressCase> chosen;
         for (const auto& name : opt.only) {
             const auto matches = [&](const StressCase& c) { return c.row == name || c.scenario.name == name; };
             if (std::none_of(cases.begin(), cases.end(), matches)) {
@@ -122,11 +123,10 @@ std::optional<StressPlan> plan_stress(const StressOptions& opt) {
                 return std::nullopt;
             }
         }
-        std::copy_if(cases.begin(), cases.end(), std::back_inserter(chosen), [&](const StressCase& c) {
-            return std::any_of(opt.only.begin(), opt.only.end(),
-                               [&](const std::string& n) { return c.row == n || c.scenario.name == n; });
+        std::erase_if(cases, [&](const StressCase& c) {
+            return std::none_of(opt.only.begin(), opt.only.end(),
+                                [&](const std::string& n) { return c.row == n || c.scenario.name == n; });
         });
-        cases = std::move(chosen);
     }
     StressPlan plan{std::move(*extra), built_simulators(), std::move(cases), {}};
     const auto selected = select_simulators(plan.built, opt.engines);
@@ -149,11 +149,11 @@ int stress_exit_status(const StressReport& report) {
 }
 
 // The matrix on the terminal, and stress.json, stress.csv and the failing generated scenarios in `out_dir`.
-int report_stress(StressReport report, const StressPlan& plan, const StressOptions& opt, const fs::path& out_dir,
-                  nlohmann::json parameters) {
+int report_stress(StressReport report, const std::vector<StressCase>& cases, const StressOptions& opt,
+                  const fs::path& out_dir, nlohmann::json parameters) {
     report.monte_carlo = opt.monte_carlo;
     fmt::print("{}{}", format_stress_matrix(report), format_stress_failures(report));
-    write_stress(report, plan.cases, parameters, out_dir, to_json(this_provenance(/*with_machine=*/true)));
+    write_stress(report, cases, parameters, out_dir, to_json(this_provenance(/*with_machine=*/true)));
     fmt::print("\nwrote stress.json and stress.csv in {}\n", out_dir.string());
     return stress_exit_status(report);
 }
@@ -177,15 +177,22 @@ int command_stress(const StressOptions& opt) {
     };
     StressReport report = run_stress(plan->cases, request);
     nlohmann::json parameters = plan->parameters(opt, out_dir);
-    if (!request.shard.whole()) {
-        // The shard's own results as files, and what merge needs to put them back.
-        parameters["shard"] = opt.shard;
-        ShardFile file{"stress", request.shard, plan->cases.size() * plan->simulators.size(), plan->fingerprint(opt),
-                       to_json(opt), report.wall_seconds, report.slots, {}};
-        for (const StressResult& r : report.results) file.results.push_back(encode_stress_result(r));
-        write_shard_file(out_dir, file);
+    if (request.shard.whole()) return report_stress(std::move(report), plan->cases, opt, out_dir, std::move(parameters));
+
+    // The shard's own results and scenarios as files, and what merge needs to put them back.
+    parameters["shard"] = opt.shard;
+    ShardFile file{"stress", request.shard, plan->cases.size() * plan->simulators.size(), plan->fingerprint(opt),
+                   to_json(opt), report.wall_seconds, report.slots, {}};
+    for (const StressResult& r : report.results) file.results.push_back(encode_stress_result(r));
+    write_shard_file(out_dir, file);
+    std::vector<StressCase> own;  // each case the shard ran a pair of, once (slots ascend, case-major)
+    std::size_t last = plan->cases.size();
+    for (std::size_t slot : report.slots) {
+        const std::size_t c = slot / plan->simulators.size();
+        if (c != last) own.push_back(plan->cases[c]);
+        last = c;
     }
-    return report_stress(std::move(report), *plan, opt, out_dir, std::move(parameters));
+    return report_stress(std::move(report), own, opt, out_dir, std::move(parameters));
 }
 
 }  // namespace
@@ -215,7 +222,7 @@ int merge_stress(const ShardSet& shards, const fs::path& out_dir) {
         return kBadInput;
     }
     report.wall_seconds = shards.wall_seconds;
-    return report_stress(std::move(report), *plan, opt, out_dir, plan->parameters(opt, out_dir));
+    return report_stress(std::move(report), plan->cases, opt, out_dir, plan->parameters(opt, out_dir));
 }
 
 Command add_stress_command(CLI::App& app) {

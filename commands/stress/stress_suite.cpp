@@ -24,6 +24,7 @@ bool one_in(std::mt19937_64& g, std::uint64_t n) { return pick(g, n) == 0; }
 std::vector<Scenario> monte_carlo_scenarios(std::uint64_t seed, int count) {
     std::mt19937_64 g(seed);
     std::vector<Scenario> out;
+    out.reserve(static_cast<std::size_t>(std::max(0, count)));
     for (int n = 0; n < count; ++n) {
         Scenario s;
         s.name = fmt::format("{}-{:04d}", kMonteCarloRow, n);
@@ -104,10 +105,13 @@ std::vector<Scenario> wall_start_scenarios() {
 }
 
 std::vector<StressCase> stress_suite(const std::vector<Scenario>& files, const MonteCarloSet& monte_carlo) {
+    std::vector<Scenario> wall_starts = wall_start_scenarios();
+    std::vector<Scenario> generated = monte_carlo_scenarios(monte_carlo.seed, monte_carlo.count);
     std::vector<StressCase> cases;
+    cases.reserve(files.size() + wall_starts.size() + generated.size());
     for (const Scenario& s : files) cases.push_back({s.name, s, false});
-    for (Scenario& s : wall_start_scenarios()) cases.push_back({kWallStartsRow, std::move(s), true});
-    for (Scenario& s : monte_carlo_scenarios(monte_carlo.seed, monte_carlo.count))
+    for (Scenario& s : wall_starts) cases.push_back({kWallStartsRow, std::move(s), true});
+    for (Scenario& s : generated)
         cases.push_back({kMonteCarloRow, std::move(s), true});
     return cases;
 }
