@@ -6,8 +6,12 @@
 # packages: a lean build). Safe to run again.
 # WITH_TEST_TOOLS=1 (scripts/test.sh sets it) also installs what only the
 # tests run: Debian's chromium, for the test that opens the HTML pages in a
-# real browser, and python3, for the example external simulator
-# (examples/external/semi_implicit_euler.py).
+# real browser; python3, for the example external simulator
+# (examples/external/semi_implicit_euler.py) and the sharded runs' comparison
+# (tests/slurm/same_apart_from_timings.py); and slurm-wlm and munge, for the
+# test that runs sharded stress and sweep runs through a single-node Slurm it
+# starts itself (tests/slurm/slurm_test.sh; installing them starts no daemon
+# that needs systemd, and the test uses its own configuration, not /etc's).
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -53,7 +57,7 @@ done
 # minimal Debian has no CA bundle without ca-certificates.
 command -v node >/dev/null && command -v npm >/dev/null || PACKAGES+=(nodejs npm)
 PACKAGES+=(ca-certificates)
-[ "${WITH_TEST_TOOLS:-0}" = 1 ] && PACKAGES+=(chromium python3)
+[ "${WITH_TEST_TOOLS:-0}" = 1 ] && PACKAGES+=(chromium python3 slurm-wlm munge)
 
 "$ROOT/scripts/packages.sh" "${PACKAGES[@]}"
 
