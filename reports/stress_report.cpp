@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <set>
 
@@ -196,43 +197,72 @@ std::string stress_csv(const StressReport& r) {
     return out;
 }
 
-nlohmann::json stress_json(const StressReport& r, const std::vector<StressCase>& cases,
-                           const nlohmann::json& parameters, const nlohmann::json& provenance) {
-    nlohmann::json results = nlohmann::json::array();
-    for (const StressResult& res : r.results) {
-        nlohmann::json checks = nlohmann::json::object();
-        for (const InvariantCheck& c : res.checks)
-            checks[to_string(c.invariant)] = {{"checked", c.checked},       {"held", c.held},
-                                              {"tolerance", json_number(c.tolerance)},
-                                              {"worst", json_number(c.worst)}, {"first_t", json_number(c.first_t)},
-                                              {"first_value", json_number(c.first_value)}};
-        const InvariantCheck* first = res.first_broken();
-        results.push_back({{"row", res.row},
-                           {"scenario", res.scenario},
-                           {"simulator", res.simulator},
-                           {"outcome", to_string(res.outcome)},
-                           {"reason", res.reason},
-                           {"first_broken", first ? nlohmann::json(to_string(first->invariant)) : nlohmann::json(nullptr)},
-                           {"steps", res.steps},
-                           {"run_seconds", res.run_seconds},
-                           {"ccd", res.ccd},
-                           {"substeps", res.substeps},
-                           {"invariants", checks}});
+namespace {
+
+nlohmann::json result_json(const StressResult& res) {
+    nlohmann::json checks = nlohmann::json::object();
+    for (const InvariantCheck& c : res.checks)
+        checks[to_string(c.invariant)] = {{"checked", c.checked},       {"held", c.held},
+                                          {"tolerance", json_number(c.tolerance)},
+                                          {"worst", json_number(c.worst)}, {"first_t", json_number(c.first_t)},
+                                          {"first_value", json_number(c.first_value)}};
+    const InvariantCheck* first = res.first_broken();
+    return {{"row", res.row},
+            {"scenario", res.scenario},
+            {"simulator", res.simulator},
+            {"outcome", to_string(res.outcome)},
+            {"reason", res.reason},
+            {"first_broken", first ? nlohmann::json(to_string(first->invariant)) : nlohmann::json(nullptr)},
+            {"steps", res.steps},
+            {"run_seconds", res.run_seconds},
+            {"ccd", res.ccd},
+            {"substeps", res.substeps},
+            {"invariants", checks}};
+}
+
+nlohmann::json generated_json(const StressCase& c) {
+    const Scenario& s = c.scenario;
+    const auto vec = [&](const Vec3& v) { return std::vector<double>(v.data(), v.data() + s.dim); };
+    return {{"name", s.name},         {"row", c.row},         {"dim", s.dim},
+            {"room", vec(s.room)},    {"radius", s.radius},   {"position", vec(s.position)},
+            {"velocity", vec(s.velocity)}, {"gravity", vec(s.gravity)}, {"alpha", s.alpha},
+            {"beta", s.beta},         {"dt", s.dt},           {"duration", s.duration}};
+}
+
+// Where the document's two long arrays go: its head is dumped with these
+// strings in their place, then cut there.
+constexpr const char* kResultsSlot = "@bouncecheck-stress-results@";
+constexpr const char* kGeneratedSlot = "@bouncecheck-stress-generated@";
+
+// A JSON array at depth 1 of a document dumped with indent 2, written an
+// element at a time: each element dumped alone, its lines indented to depth
+// 2 (no JSON string holds a raw line break). Nothing but one element and a
+// megabyte of text is in memory at once.
+void write_array(AtomicFile& file, std::size_t n, const std::function<nlohmann::json(std::size_t)>& element) {
+    if (n == 0) return file.write("[]");
+    std::string text = "[\n";
+    for (std::size_t i = 0; i < n; ++i) {
+        text += "    ";
+        for (const char c : element(i).dump(2)) {
+            text += c;
+            if (c == '\n') text += "    ";
+        }
+        text += i + 1 < n ? ",\n" : "\n";
+        if (text.size() > (std::size_t{1} << 20)) {
+            file.write(text);
+            text.clear();
+        }
     }
-    nlohmann::json generated = nlohmann::json::array();
-    auto vec = [](const Scenario& s, const Vec3& v) {
-        std::vector<double> out(v.data(), v.data() + s.dim);
-        return out;
-    };
-    for (const StressCase& c : cases) {
-        if (!c.generated) continue;
-        const Scenario& s = c.scenario;
-        generated.push_back({{"name", s.name}, {"row", c.row}, {"dim", s.dim}, {"room", vec(s, s.room)},
-                             {"radius", s.radius}, {"position", vec(s, s.position)},
-                             {"velocity", vec(s, s.velocity)}, {"gravity", vec(s, s.gravity)}, {"alpha", s.alpha},
-                             {"beta", s.beta}, {"dt", s.dt}, {"duration", s.duration}});
-    }
-    nlohmann::json out = {{"schema", kStressSchema},
+    file.write(text + "  ]");
+}
+
+// stress.json: the document nlohmann's dump(2) would write, written in pieces
+// so that its memory does not grow with the suite (a merged run of a million
+// Monte-Carlo scenarios and seven engines has seven million results).
+void write_stress_json(const std::filesystem::path& target, const StressReport& r,
+                       const std::vector<StressCase>& cases, const nlohmann::json& parameters,
+                       const nlohmann::json& provenance) {
+    nlohmann::json head = {{"schema", kStressSchema},
             {"version", BOUNCECHECK_VERSION},
             {"parameters", parameters},
             {"monte_carlo", {{"seed", r.monte_carlo.seed}, {"count", r.monte_carlo.count}}},
@@ -248,25 +278,51 @@ nlohmann::json stress_json(const StressReport& r, const std::vector<StressCase>&
             {"rows", r.rows},
             {"simulators", r.simulators},
             {"wall_seconds", r.wall_seconds},
-            {"results", std::move(results)},
-            {"generated_scenarios", std::move(generated)}};
-    if (!provenance.is_null()) out["provenance"] = provenance;
-    return out;
+            {"results", kResultsSlot},
+            {"generated_scenarios", kGeneratedSlot}};
+    if (!provenance.is_null()) head["provenance"] = provenance;
+    const std::string text = head.dump(2) + "\n";
+    std::vector<const StressCase*> generated;
+    for (const StressCase& c : cases)
+        if (c.generated) generated.push_back(&c);
+
+    AtomicFile file(target);
+    std::size_t from = 0;
+    // The two slots in the order the (sorted) keys put them.
+    const std::string results_slot = fmt::format("\"{}\"", kResultsSlot);
+    const std::string generated_slot = fmt::format("\"{}\"", kGeneratedSlot);
+    for (std::size_t at; (at = std::min(text.find(results_slot, from), text.find(generated_slot, from))) !=
+                         std::string::npos;) {
+        file.write(std::string_view(text).substr(from, at - from));
+        if (text.compare(at, results_slot.size(), results_slot) == 0) {
+            write_array(file, r.results.size(), [&](std::size_t i) { return result_json(r.results[i]); });
+            from = at + results_slot.size();
+        } else {
+            write_array(file, generated.size(), [&](std::size_t i) { return generated_json(*generated[i]); });
+            from = at + generated_slot.size();
+        }
+    }
+    file.write(std::string_view(text).substr(from));
+    file.commit();
 }
+
+}  // namespace
 
 void write_stress(const StressReport& r, const std::vector<StressCase>& cases, const nlohmann::json& parameters,
                   const std::filesystem::path& out_dir, const nlohmann::json& provenance) {
     write_file_atomically(out_dir / "stress.csv", stress_csv(r));
-    write_file_atomically(out_dir / "stress.json", stress_json(r, cases, parameters, provenance).dump(2) + "\n");
+    write_stress_json(out_dir / "stress.json", r, cases, parameters, provenance);
     // A generated scenario that broke something, as a file `bouncecheck run` reproduces.
+    std::map<std::string, const StressCase*> generated;
+    for (const StressCase& c : cases)
+        if (c.generated) generated.emplace(c.scenario.name, &c);
     std::set<std::string> written;
     for (const StressResult& res : r.results) {
         if (res.outcome == StressOutcome::pass || res.outcome == StressOutcome::skipped) continue;
-        const auto c = std::find_if(cases.begin(), cases.end(),
-                                    [&](const StressCase& k) { return k.generated && k.scenario.name == res.scenario; });
-        if (c == cases.end() || !written.insert(res.scenario).second) continue;
+        const auto c = generated.find(res.scenario);
+        if (c == generated.end() || !written.insert(res.scenario).second) continue;
         std::filesystem::create_directories(out_dir / kStressScenarioDir);
-        write_file_atomically(out_dir / kStressScenarioDir / (res.scenario + ".toml"), scenario_toml(c->scenario));
+        write_file_atomically(out_dir / kStressScenarioDir / (res.scenario + ".toml"), scenario_toml(c->second->scenario));
     }
 }
 

@@ -94,10 +94,9 @@ std::string format_stress_matrix(const StressReport& r);
 // Every failed, crashed or hung run, one line each, families included.
 std::string format_stress_failures(const StressReport& r);
 std::string stress_csv(const StressReport& r);
-nlohmann::json stress_json(const StressReport& r, const std::vector<StressCase>& cases,
-                           const nlohmann::json& parameters, const nlohmann::json& provenance = nullptr);
-// Writes DIR/stress.json and DIR/stress.csv, and each generated scenario that
-// failed, crashed or hung as DIR/stress-scenarios/<name>.toml, each atomically.
+// Writes DIR/stress.json (as nlohmann's dump(2) of the document, a result at
+// a time), DIR/stress.csv, and each generated scenario that failed, crashed
+// or hung as DIR/stress-scenarios/<name>.toml, each atomically.
 void write_stress(const StressReport& r, const std::vector<StressCase>& cases, const nlohmann::json& parameters,
                   const std::filesystem::path& out_dir, const nlohmann::json& provenance = nullptr);
 

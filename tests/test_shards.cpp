@@ -177,8 +177,11 @@ TEST_F(Merge, ShardedStressEqualsTheWholeRunApartFromTimings) {
     const auto merged = test::bouncecheck(fmt::format("merge {} {} {} {}", at("merged"), at("s3"), at("s1"), at("s2")));
     EXPECT_EQ(merged.status, whole.status) << merged.output;
 
+    const std::string merged_text = slurp(dir_ / "merged" / "stress.json");
     const auto expected = nlohmann::json::parse(slurp(dir_ / "whole" / "stress.json"));
-    const auto actual = nlohmann::json::parse(slurp(dir_ / "merged" / "stress.json"));
+    const auto actual = nlohmann::json::parse(merged_text);
+    // stress.json is written a result at a time, as the document's dump(2).
+    EXPECT_EQ(actual.dump(2) + "\n", merged_text);
     EXPECT_EQ(partial_results, expected["results"].size()) << "each pair in exactly one shard";
     EXPECT_EQ(expected["results"].size(), 160u);
     EXPECT_EQ(without_timings(actual).dump(1), without_timings(expected).dump(1));
@@ -274,6 +277,9 @@ TEST_F(Merge, RefusesShardsOfInputsOtherThanTheMergeSees) {
     std::ofstream(file, std::ios::app) << "\n# a comment changes no scenario\n";
     const auto same = test::bouncecheck(fmt::format("merge {} {} {}", at("m1"), at("s1"), at("s2")));
     EXPECT_LE(same.status, 1) << same.output;
+    const std::string text = slurp(dir_ / "m1" / "stress.json");  // no generated scenario: an empty array
+    EXPECT_NE(text.find("\"generated_scenarios\": [],"), std::string::npos);
+    EXPECT_EQ(nlohmann::json::parse(text).dump(2) + "\n", text);
     std::string changed = original;
     const auto radius = changed.find("radius = 0.05\n");
     ASSERT_NE(radius, std::string::npos);
