@@ -239,4 +239,25 @@ std::vector<const Simulator*> ExtraSimulators::for_scenario(const Scenario& s,
     return out;
 }
 
+nlohmann::json to_json(const ExternalOptions& options) {
+    return {{"declarations", options.declarations}, {"timeout", options.timeout_seconds}};
+}
+
+ExternalOptions external_options_from(const nlohmann::json& j) {
+    return {j.at("declarations").get<std::vector<std::string>>(), j.at("timeout").get<double>()};
+}
+
+std::vector<std::string> simulator_names(const std::vector<const Simulator*>& simulators) {
+    std::vector<std::string> names;
+    for (const Simulator* sim : simulators) names.emplace_back(sim->name());
+    return names;
+}
+
+nlohmann::json simulator_origins(const std::vector<const Simulator*>& simulators) {
+    nlohmann::json origins = nlohmann::json::object();
+    for (const Simulator* sim : simulators)
+        if (!sim->origin().empty()) origins[std::string(sim->name())] = std::string(sim->origin());
+    return origins;
+}
+
 }  // namespace bouncecheck

@@ -9,6 +9,8 @@
 #include "scenarios/scenario.h"
 #include "simulators/simulator.h"
 
+#include <nlohmann/json.hpp>
+
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -73,6 +75,14 @@ struct ExternalOptions {
     double timeout_seconds = kDefaultExternalTimeoutSeconds;
 };
 void add_external_options(CLI::App& command, ExternalOptions& options);
+// The options as a shard hands them to merge (commands/shards.h), and back.
+nlohmann::json to_json(const ExternalOptions& options);
+ExternalOptions external_options_from(const nlohmann::json& j);
+
+// A report's "engines" (the simulators' names, in order) and "origins" (the
+// origin of each simulator from outside this build).
+std::vector<std::string> simulator_names(const std::vector<const Simulator*>& simulators);
+nlohmann::json simulator_origins(const std::vector<const Simulator*>& simulators);
 
 // The simulators bouncecheck did not build that a command runs beside the
 // built ones: --external's, each scenario's own [external.<name>], and

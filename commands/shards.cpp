@@ -169,4 +169,13 @@ std::optional<ShardSet> read_shards(const std::vector<fs::path>& dirs) {
     return set;
 }
 
+bool shards_ran_this_plan(const ShardSet& shards, const std::string& planned) {
+    if (planned == shards.fingerprint) return true;
+    fmt::print(stderr,
+               "error: the shards ran another build or other inputs than this merge sees (fingerprint {}, here {}): "
+               "merge with the build, and the scenario files, the shards ran\n",
+               shards.fingerprint, planned);
+    return false;
+}
+
 }  // namespace bouncecheck

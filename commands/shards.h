@@ -60,6 +60,10 @@ struct ShardSet {
 // Prints every problem, naming the directory; nothing on failure.
 std::optional<ShardSet> read_shards(const std::vector<std::filesystem::path>& dirs);
 
+// Whether `shards` ran the plan whose fingerprint is `planned` (the merge's
+// own plan of the same options); prints why not.
+bool shards_ran_this_plan(const ShardSet& shards, const std::string& planned);
+
 // Each command's merge: plans the run again from the shards' options, refuses
 // shards whose fingerprint is not this plan's, and writes exactly what the
 // unsharded run writes, returning its exit status. In

@@ -13,6 +13,8 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace bouncecheck {
 
@@ -47,6 +49,20 @@ struct PairSchedule {
                        std::size_t total)>
         finished;
 };
+
+// A shard's part of a run's per-pair results: the entries whose pair ran
+// (`ran`, by slot), in slot order, and their slots.
+template <class Result>
+void keep_pairs_that_ran(const std::vector<bool>& ran, std::vector<Result>& results, std::vector<std::size_t>& slots) {
+    std::vector<Result> kept;
+    slots.clear();
+    for (std::size_t slot = 0; slot < ran.size(); ++slot) {
+        if (!ran[slot]) continue;
+        kept.push_back(std::move(results[slot]));
+        slots.push_back(slot);
+    }
+    results = std::move(kept);
+}
 
 // Runs every pair of [0, simulators) x [0, items) (of the schedule's shard), costliest first, one pair
 // at a time per worker; min(jobs, pairs) workers are started once, not per

@@ -47,7 +47,7 @@ nlohmann::json to_json(const StressOptions& o) {
             {"only", o.only},
             {"budget", o.budget},
             {"monte_carlo", {{"seed", o.monte_carlo.seed}, {"count", o.monte_carlo.count}}},
-            {"external", {{"declarations", o.external.declarations}, {"timeout", o.external.timeout_seconds}}}};
+            {"external", to_json(o.external)}};
 }
 
 StressOptions stress_options_from(const nlohmann::json& j) {
@@ -57,8 +57,7 @@ StressOptions stress_options_from(const nlohmann::json& j) {
     o.only = j.at("only").get<std::vector<std::string>>();
     o.budget = j.at("budget").get<double>();
     o.monte_carlo = {j.at("monte_carlo").at("seed").get<std::uint64_t>(), j.at("monte_carlo").at("count").get<int>()};
-    o.external.declarations = j.at("external").at("declarations").get<std::vector<std::string>>();
-    o.external.timeout_seconds = j.at("external").at("timeout").get<double>();
+    o.external = external_options_from(j.at("external"));
     return o;
 }
 
@@ -69,21 +68,10 @@ struct StressPlan {
     std::vector<StressCase> cases;
     std::vector<const Simulator*> simulators;
 
-    std::vector<std::string> simulator_names() const {
-        std::vector<std::string> names;
-        for (const Simulator* sim : simulators) names.emplace_back(sim->name());
-        return names;
-    }
     // stress.json's "parameters".
     nlohmann::json parameters(const StressOptions& opt, const fs::path& out_dir) const {
-        nlohmann::json engines = nlohmann::json::array();
-        nlohmann::json origins = nlohmann::json::object();  // simulators from outside this build
-        for (const Simulator* sim : simulators) {
-            engines.push_back(std::string(sim->name()));
-            if (!sim->origin().empty()) origins[std::string(sim->name())] = std::string(sim->origin());
-        }
-        return {{"engines", engines},
-                {"origins", origins},
+        return {{"engines", simulator_names(simulators)},
+                {"origins", simulator_origins(simulators)},
                 {"jobs", opt.jobs > 0 ? opt.jobs : 0},
                 {"only", opt.only},
                 {"budget_seconds", opt.budget},
@@ -207,16 +195,10 @@ int merge_stress(const ShardSet& shards, const fs::path& out_dir) {
     }
     const auto plan = plan_stress(opt);
     if (!plan) return kBadInput;
-    if (const std::string mine = plan->fingerprint(opt); mine != shards.fingerprint) {
-        fmt::print(stderr,
-                   "error: the shards ran another build or other inputs than this merge sees (fingerprint {}, "
-                   "here {}): merge with the build and the scenarios the shards ran\n",
-                   shards.fingerprint, mine);
-        return kBadInput;
-    }
+    if (!shards_ran_this_plan(shards, plan->fingerprint(opt))) return kBadInput;
     StressReport report;
     try {
-        report = stress_report_from_results(plan->cases, plan->simulator_names(), opt.budget, shards.results);
+        report = stress_report_from_results(plan->cases, simulator_names(plan->simulators), opt.budget, shards.results);
     } catch (const std::exception& e) {
         fmt::print(stderr, "error: a shard's result is unreadable: {}\n", e.what());
         return kBadInput;

@@ -305,17 +305,7 @@ StressReport run_stress(const std::vector<StressCase>& cases, const StressReques
         if (request.on_progress) request.on_progress(r, done, total);
     };
     run_pairs_in_parallel(request.simulators.size(), cases.size(), schedule);
-    if (!request.shard.whole()) {  // only the shard's pairs, in the whole run's order
-        std::vector<StressResult> results;
-        std::vector<std::size_t> slots;
-        for (std::size_t slot = 0; slot < ran.size(); ++slot) {
-            if (!ran[slot]) continue;
-            results.push_back(std::move(report.results[slot]));
-            slots.push_back(slot);
-        }
-        report.results = std::move(results);
-        report.slots = std::move(slots);
-    }
+    if (!request.shard.whole()) keep_pairs_that_ran(ran, report.results, report.slots);
     report.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     return report;
 }

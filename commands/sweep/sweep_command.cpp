@@ -46,7 +46,7 @@ nlohmann::json to_json(const SweepOptions& o) {
             {"repeat", o.repeat},
             {"jobs", o.jobs},
             {"budget", o.budget},
-            {"external", {{"declarations", o.external.declarations}, {"timeout", o.external.timeout_seconds}}}};
+            {"external", to_json(o.external)}};
 }
 
 SweepOptions sweep_options_from(const nlohmann::json& j) {
@@ -57,8 +57,7 @@ SweepOptions sweep_options_from(const nlohmann::json& j) {
     o.repeat = j.at("repeat").get<int>();
     o.jobs = j.at("jobs").get<int>();
     o.budget = j.at("budget").get<double>();
-    o.external.declarations = j.at("external").at("declarations").get<std::vector<std::string>>();
-    o.external.timeout_seconds = j.at("external").at("timeout").get<double>();
+    o.external = external_options_from(j.at("external"));
     return o;
 }
 
@@ -70,22 +69,11 @@ struct SweepPlan {
     std::vector<double> dts;
     std::vector<const Simulator*> simulators;
 
-    std::vector<std::string> simulator_names() const {
-        std::vector<std::string> names;
-        for (const Simulator* sim : simulators) names.emplace_back(sim->name());
-        return names;
-    }
     // sweep.json's "parameters".
     nlohmann::json parameters(const SweepOptions& opt, const fs::path& out_dir) const {
-        nlohmann::json engines = nlohmann::json::array();
-        nlohmann::json origins = nlohmann::json::object();  // simulators from outside this build
-        for (const Simulator* sim : simulators) {
-            engines.push_back(std::string(sim->name()));
-            if (!sim->origin().empty()) origins[std::string(sim->name())] = std::string(sim->origin());
-        }
         return {{"scenario_file", opt.file},
-                {"engines", engines},
-                {"origins", origins},
+                {"engines", simulator_names(simulators)},
+                {"origins", simulator_origins(simulators)},
                 {"dt", dts},
                 {"dt_source", opt.dt.empty() ? "default" : "--dt"},
                 {"dt_argument", opt.dt},
@@ -207,16 +195,10 @@ int merge_sweep(const ShardSet& shards, const fs::path& out_dir) {
     }
     const auto plan = plan_sweep(opt);
     if (!plan) return kBadInput;
-    if (const std::string mine = plan->fingerprint(opt); mine != shards.fingerprint) {
-        fmt::print(stderr,
-                   "error: the shards ran another build or other inputs than this merge sees (fingerprint {}, "
-                   "here {}): merge with the build and the scenario file the shards ran\n",
-                   shards.fingerprint, mine);
-        return kBadInput;
-    }
+    if (!shards_ran_this_plan(shards, plan->fingerprint(opt))) return kBadInput;
     SweepResult result;
     try {
-        result = sweep_result_from_rows(plan->simulator_names(), plan->dts, shards.results);
+        result = sweep_result_from_rows(simulator_names(plan->simulators), plan->dts, shards.results);
     } catch (const std::exception& e) {
         fmt::print(stderr, "error: a shard's row is unreadable: {}\n", e.what());
         return kBadInput;

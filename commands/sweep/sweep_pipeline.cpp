@@ -247,17 +247,7 @@ SweepResult run_sweep(const Scenario& s, const SweepRequest& request) {
         if (request.on_progress) request.on_progress(row, done, total);
     };
     run_pairs_in_parallel(request.simulators.size(), n_dt, schedule);
-    if (!request.shard.whole()) {  // only the shard's pairs, in the whole sweep's order
-        std::vector<SweepRow> rows;
-        std::vector<std::size_t> slots;
-        for (std::size_t slot = 0; slot < ran.size(); ++slot) {
-            if (!ran[slot]) continue;
-            rows.push_back(std::move(result.rows[slot]));
-            slots.push_back(slot);
-        }
-        result.rows = std::move(rows);
-        result.slots = std::move(slots);
-    }
+    if (!request.shard.whole()) keep_pairs_that_ran(ran, result.rows, result.slots);
     fit_orders(names, result);
     return result;
 }
