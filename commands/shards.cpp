@@ -12,7 +12,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
-#include <sstream>
+#include <utility>
 
 namespace fs = std::filesystem;
 
@@ -148,7 +148,7 @@ std::optional<ShardSet> read_shards(const std::vector<fs::path>& dirs) {
     set.fingerprint = first.fingerprint;
     set.results.resize(first.pairs);
     std::vector<int> owner(first.pairs, 0);  // the shard that gave each pair
-    for (const ShardFile& f : files) {
+    for (ShardFile& f : files) {  // their results move into the set: a large run's are gigabytes
         set.wall_seconds = std::max(set.wall_seconds, f.wall_seconds);
         for (std::size_t i = 0; i < f.slots.size(); ++i) {
             const std::size_t slot = f.slots[i];
@@ -159,7 +159,7 @@ std::optional<ShardSet> read_shards(const std::vector<fs::path>& dirs) {
                 return std::nullopt;
             }
             owner[slot] = f.shard.index;
-            set.results[slot] = f.results[i];
+            set.results[slot] = std::move(f.results[i]);
         }
     }
     if (const auto hole = std::find(owner.begin(), owner.end(), 0); hole != owner.end()) {
