@@ -2,6 +2,8 @@
 
 #include "registry/registry.h"
 
+#include "git_state.h"  // generated at every build (cmake/git_state.cmake)
+
 #include <fmt/format.h>
 
 #include <ctime>

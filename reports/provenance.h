@@ -23,8 +23,8 @@ struct Provenance {
     };
     struct Build {
         std::string version;      // bouncecheck's
-        std::string git_commit;   // at configure time; empty if not built from a git checkout
-        bool git_dirty = false;   // uncommitted changes at configure time
+        std::string git_commit;   // when built; empty if not built from a git checkout
+        bool git_dirty = false;   // uncommitted changes when built
         std::string compiler;     // "GNU 12.2.0"
         std::string build_type;   // "Release"
         std::string flags;        // the C++ flags of that build type

@@ -1,11 +1,13 @@
 // The run reports: report.json, the terminal comparison table, report.md,
 // junit.xml and bounces.csv, on a RunReport built by hand.
+#include "reports/provenance.h"
 #include "reports/run_report.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -17,6 +19,21 @@
 
 namespace bouncecheck {
 namespace {
+
+// The commit this test's build was made from, as git names it now; empty
+// without git or a checkout.
+std::string source_head() {
+    const std::string root = std::filesystem::path(BOUNCECHECK_SCENARIO_DIR).parent_path().string();
+    if (!std::filesystem::exists(root + "/.git")) return "";
+    FILE* git = popen(("git -C '" + root + "' rev-parse HEAD 2>/dev/null").c_str(), "r");
+    if (!git) return "";
+    char line[128] = {};
+    const bool read = std::fgets(line, sizeof line, git) != nullptr;
+    pclose(git);
+    std::string head = read ? line : "";
+    while (!head.empty() && (head.back() == '\n' || head.back() == '\r')) head.pop_back();
+    return head;
+}
 
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -357,6 +374,16 @@ TEST(ReportsWrite, WritesTheFourFiles) {
     EXPECT_EQ(read("junit.xml"), to_junit(report));
     EXPECT_EQ(read("bounces.csv"), bounces_csv(report));
     std::filesystem::remove_all(dir);
+}
+
+// The provenance names the commit the binary was built from: read at build
+// time (cmake/git_state.cmake), so a build after a commit names the new one.
+// It held the configure-time commit before. (A test run against a binary
+// older than the checked-out commit fails here, which is the point.)
+TEST(Provenance, NamesTheCommitTheBinaryWasBuiltFrom) {
+    const std::string head = source_head();
+    if (head.empty()) GTEST_SKIP() << "not built from a git checkout, or no git";
+    EXPECT_EQ(this_provenance(false).build.git_commit, head);
 }
 
 }  // namespace
