@@ -11,7 +11,9 @@
 #include "platform/shard.h"
 
 #include <cstddef>
+#include <exception>
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -27,6 +29,41 @@ struct PairOutcome {
     // exception's message), with the last lines the worker wrote to stderr.
     std::string failure;
 };
+
+// Why a finished pair has no result: its worker crashed or hung
+// (PairOutcome::failure), or sent bytes the caller could not decode.
+struct PairFailure {
+    enum class Kind { crashed, hung, unreadable };
+    Kind kind = Kind::crashed;
+    std::string reason;
+    // For a row's reason: "crashed: ...", "hung: ...", or the unreadable
+    // result's reason as it is.
+    std::string labelled() const {
+        switch (kind) {
+            case Kind::crashed: return "crashed: " + reason;
+            case Kind::hung: return "hung: " + reason;
+            case Kind::unreadable: break;
+        }
+        return reason;
+    }
+};
+
+// Runs `decode(payload)` on a pair that ended ok; otherwise, or when
+// `decode` throws, says why there is no result. The one way every
+// `finished` handler reads a pair.
+template <class Decode>
+std::optional<PairFailure> decode_pair(const PairOutcome& ended, Decode&& decode) {
+    if (ended.kind != PairOutcome::Kind::ok)
+        return PairFailure{ended.kind == PairOutcome::Kind::hung ? PairFailure::Kind::hung : PairFailure::Kind::crashed,
+                           ended.failure};
+    try {
+        decode(ended.payload);
+        return std::nullopt;
+    } catch (const std::exception& e) {
+        return PairFailure{PairFailure::Kind::unreadable,
+                           std::string("its worker process sent an unreadable result: ") + e.what()};
+    }
+}
 
 struct PairSchedule {
     int jobs = 0;  // worker processes; 0: one per core

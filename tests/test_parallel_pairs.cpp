@@ -186,3 +186,32 @@ TEST(ParallelPairs, NoPairsAndMoreJobsThanPairs) {
     EXPECT_TRUE(run_all(3, 0, 2, pid_and).empty());
     EXPECT_EQ(run_all(1, 1, 16, pid_and).size(), 1u);
 }
+
+// How every `finished` handler reads a pair (run, sweep, stress): decoded
+// when it ended ok, else crashed or hung with the pool's reason, and a
+// payload the decoder rejects is a failure of its own, not a crash label.
+TEST(ParallelPairs, DecodePairGivesTheResultOrWhyThereIsNone) {
+    std::string decoded;
+    const auto keep = [&](const std::string& payload) { decoded = payload; };
+    EXPECT_FALSE(decode_pair(PairOutcome{PairOutcome::Kind::ok, "bytes", ""}, keep).has_value());
+    EXPECT_EQ(decoded, "bytes");
+
+    const auto crashed = decode_pair(PairOutcome{PairOutcome::Kind::crashed, "", "signal 6 (Aborted)"}, keep);
+    ASSERT_TRUE(crashed.has_value());
+    EXPECT_EQ(crashed->kind, PairFailure::Kind::crashed);
+    EXPECT_EQ(crashed->reason, "signal 6 (Aborted)");
+    EXPECT_EQ(crashed->labelled(), "crashed: signal 6 (Aborted)");
+
+    const auto hung = decode_pair(PairOutcome{PairOutcome::Kind::hung, "", "no result after 2 s"}, keep);
+    ASSERT_TRUE(hung.has_value());
+    EXPECT_EQ(hung->kind, PairFailure::Kind::hung);
+    EXPECT_EQ(hung->labelled(), "hung: no result after 2 s");
+
+    decoded.clear();
+    const auto unreadable = decode_pair(PairOutcome{PairOutcome::Kind::ok, "garbage", ""},
+                                        [](const std::string&) { throw std::runtime_error("truncated"); });
+    ASSERT_TRUE(unreadable.has_value());
+    EXPECT_EQ(unreadable->kind, PairFailure::Kind::unreadable);
+    EXPECT_EQ(unreadable->reason, "its worker process sent an unreadable result: truncated");
+    EXPECT_EQ(unreadable->labelled(), unreadable->reason);
+}

@@ -130,21 +130,11 @@ std::vector<std::optional<ComparedRun>> run_isolated(const Scenario& s, const Ru
     schedule.run = [&](std::size_t k, std::size_t) { return encode(run_compared(*sims[pooled[k]], s, request, base)); };
     schedule.finished = [&](std::size_t k, std::size_t, const PairOutcome& ended, std::size_t, std::size_t) {
         ComparedRun o;
-        std::string failure;
-        if (ended.kind != PairOutcome::Kind::ok) {
-            failure = fmt::format("{}: {}", ended.kind == PairOutcome::Kind::hung ? "hung" : "crashed", ended.failure);
-        } else {
-            try {
-                o = decode(ended.payload);
-            } catch (const std::exception& e) {
-                failure = fmt::format("its worker process sent an unreadable result: {}", e.what());
-            }
-        }
-        if (!failure.empty()) {
+        if (const auto failure = decode_pair(ended, [&](const std::string& payload) { o = decode(payload); })) {
             o = ComparedRun{};
             o.summary.simulator = std::string(sims[pooled[k]]->name());
             o.summary.status = RunStatus::failed;
-            o.summary.reason = std::move(failure);
+            o.summary.reason = failure->labelled();
             if (request.plots) o.plot.emplace();
         }
         outcomes[pooled[k]] = std::move(o);

@@ -291,16 +291,10 @@ StressReport run_stress(const std::vector<StressCase>& cases, const StressReques
     schedule.finished = [&](std::size_t e, std::size_t c, const PairOutcome& o, std::size_t done, std::size_t total) {
         StressResult& r = report.results[c * n_sim + e];
         ran[c * n_sim + e] = true;
-        if (o.kind == PairOutcome::Kind::ok) {
-            try {
-                decode_stress_result(o.payload, r);
-            } catch (const std::exception& error) {
-                r.outcome = StressOutcome::crashed;
-                r.reason = fmt::format("its worker process sent an unreadable result: {}", error.what());
-            }
-        } else {
-            r.outcome = o.kind == PairOutcome::Kind::hung ? StressOutcome::hung : StressOutcome::crashed;
-            r.reason = o.failure;
+        const auto decode = [&](const std::string& payload) { decode_stress_result(payload, r); };
+        if (const auto failure = decode_pair(o, decode)) {
+            r.outcome = failure->kind == PairFailure::Kind::hung ? StressOutcome::hung : StressOutcome::crashed;
+            r.reason = failure->reason;
         }
         if (request.on_progress) request.on_progress(r, done, total);
     };

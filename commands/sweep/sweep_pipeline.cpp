@@ -233,17 +233,8 @@ SweepResult run_sweep(const Scenario& s, const SweepRequest& request) {
     schedule.finished = [&](std::size_t e, std::size_t d, const PairOutcome& o, std::size_t done, std::size_t total) {
         SweepRow& row = result.rows[e * n_dt + d];
         ran[e * n_dt + d] = true;
-        if (o.kind != PairOutcome::Kind::ok) {
-            row = failed_row(row.engine, row.dt,
-                             fmt::format("{}: {}", o.kind == PairOutcome::Kind::hung ? "hung" : "crashed", o.failure));
-        } else {
-            try {
-                decode_sweep_row(o.payload, row);
-            } catch (const std::exception& error) {
-                row = failed_row(row.engine, row.dt,
-                                 fmt::format("its worker process sent an unreadable result: {}", error.what()));
-            }
-        }
+        if (const auto failure = decode_pair(o, [&](const std::string& payload) { decode_sweep_row(payload, row); }))
+            row = failed_row(row.engine, row.dt, failure->labelled());
         if (request.on_progress) request.on_progress(row, done, total);
     };
     run_pairs_in_parallel(request.simulators.size(), n_dt, schedule);
