@@ -137,5 +137,17 @@ TEST(DocumentClockJumps, AsManyStepsAsTheLoopTakes) {
     EXPECT_EQ(document_step_count(0.1, 1.0), 11);
 }
 
+// Clocks no loaded scenario has (the loader wants dt > 0), as code may make
+// them: a negative dt counts |t| up, the mirror of the positive one; dt = 0
+// never ends and counts as INT64_MAX (it looped forever before); a NaN dt
+// ends after one step, as the document's loop does.
+TEST(DocumentClockJumps, ClocksOutsideTheLoadersRange) {
+    EXPECT_EQ(document_step_count(-0.1, 1.0), 11);
+    EXPECT_EQ(document_step_count(-0.03, -50.0), 1667);
+    EXPECT_EQ(document_step_count(0.0, 1.0), std::numeric_limits<std::int64_t>::max());
+    EXPECT_EQ(document_step_count(std::nan(""), 1.0), 1);
+    EXPECT_EQ(document_step_count(0.1, 0.0), 0);
+}
+
 }  // namespace
 }  // namespace bouncecheck
