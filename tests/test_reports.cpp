@@ -1,5 +1,6 @@
 // The run reports: report.json, the terminal comparison table, report.md,
 // junit.xml and bounces.csv, on a RunReport built by hand.
+#include "platform/program.h"
 #include "reports/provenance.h"
 #include "reports/run_report.h"
 
@@ -7,7 +8,6 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -15,6 +15,7 @@
 #include <sstream>
 #include <unistd.h>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace bouncecheck {
@@ -25,12 +26,14 @@ namespace {
 std::string source_head() {
     const std::string root = std::filesystem::path(BOUNCECHECK_SCENARIO_DIR).parent_path().string();
     if (!std::filesystem::exists(root + "/.git")) return "";
-    FILE* git = popen(("git -C '" + root + "' rev-parse HEAD 2>/dev/null").c_str(), "r");
-    if (!git) return "";
-    char line[128] = {};
-    const bool read = std::fgets(line, sizeof line, git) != nullptr;
-    pclose(git);
-    std::string head = read ? line : "";
+    std::string head;
+    ProgramRequest git;
+    git.argv = {"git", "-C", root, "rev-parse", "HEAD"};
+    git.on_output = [&](std::string_view piece) {
+        head += piece;
+        return true;
+    };
+    if (!run_program(git).succeeded()) return "";
     while (!head.empty() && (head.back() == '\n' || head.back() == '\r')) head.pop_back();
     return head;
 }
