@@ -24,6 +24,28 @@ ContactEvent measure_contact(double t, int axis, int side, const Vec3& v_before,
     return e;
 }
 
+ImpactVelocities impact_velocities(const State& before, const State& after, int axis, int side, double wall,
+                                   const Vec3& gravity) {
+    const double step = after.t - before.t;
+    // Along the wall's outward normal: the gap from the plane, the speed away
+    // from it and gravity's pull, at `after`. Traced back by u >= 0 the flight
+    // after is at gap - speed u + pull u^2 / 2.
+    const double outward = side < 0 ? 1.0 : -1.0;
+    const double gap = outward * (after.p[axis] - wall);
+    const double speed = outward * after.v[axis];
+    const double pull = outward * gravity[axis];
+    double back = 0;  // u at the impact
+    if (gap > 0) {
+        const double discriminant = speed * speed - 2 * pull * gap;
+        const double denominator = discriminant >= 0 ? speed + std::sqrt(discriminant) : 0.0;
+        // The nearer root in its cancellation-free form; with none (a pull
+        // away from the wall, the plane never reached) the closest approach.
+        back = denominator > 0 ? 2 * gap / denominator : (pull > 0 ? speed / pull : step);
+        back = std::clamp(back, 0.0, step);
+    }
+    return {after.t - back, before.v + gravity * (step - back), after.v - gravity * back};
+}
+
 StreamRecorder::StreamRecorder(const Scenario& s, StateSink* sink)
     : sink_(sink), dim_(s.dim), vertical_(s.vertical_axis()), walls_(s), gravity_(s.gravity) {
     // The ball has escaped when its centre is beyond a wall's plane: it has
@@ -67,11 +89,11 @@ void StreamRecorder::count_contacts(const State& previous, const State& s, Conta
             if (!(((side < 0 ? contact.lower : contact.upper) >> i) & 1u)) continue;
             ++contacts_;
             if (contact_events_.size() < kKeptContacts && after_first_state) {
-                // The velocity that meets the wall: a step of gravity after
-                // the last sample, as in the document's step (and Box2D's).
-                const Vec3 incoming = previous.v + gravity_ * (s.t - previous.t);
+                // Both velocities at the impact instant within the step.
+                const double wall = side < 0 ? walls_.low[i] : walls_.high[i];
+                const ImpactVelocities at = impact_velocities(previous, s, i, side, wall, gravity_);
                 contact_events_.push_back(
-                    measure_contact(s.t, i, side, incoming, s.v, dim_, contact.lower | contact.upper));
+                    measure_contact(at.t, i, side, at.incoming, at.outgoing, dim_, contact.lower | contact.upper));
             }
         }
     }

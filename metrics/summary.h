@@ -64,17 +64,32 @@ inline constexpr std::size_t kReportedApexes = 5;  // in the terminal summary
 
 // A contact's damping as measured: |outgoing| / |incoming| normal speed, and
 // |outgoing| / |incoming| tangential speed (NaN when the incoming tangential
-// speed is below 1e-9 m/s). Stepped simulators: the incoming velocity is the
-// sample before the contact plus one step of gravity (what meets the wall in
-// a step that applies gravity first, as the document's does), the outgoing
-// one the sample after; the reference then measures alpha and beta exactly.
-// An engine that bounces the pre-gravity velocity measures alpha (1 - |g| dt / v).
-// exact: at the instant.
+// speed is below 1e-9 m/s), both velocities at the impact instant.
+// exact: its own instant. Stepped simulators: see impact_velocities.
 // `normal_axes`: the axes of every wall touched in the same step (bit per
 // axis; a corner touches two or three): none of them is tangential, since
 // the law reverses each one's component by alpha.
 ContactEvent measure_contact(double t, int axis, int side, const Vec3& v_before, const Vec3& v_after, int dim,
                              unsigned normal_axes = 0);
+
+// The velocities just before and just after an impact that happened in the
+// step from `before` to `after` (samples of a stepped simulator), on the
+// wall of `axis`/`side` whose centre plane is `wall`. The impact instant is
+// where the flight after the contact, traced back from `after` under
+// gravity, meets that plane within the step (the step's start if it does
+// not reach it; `after` itself if that lies on or beyond the plane). The
+// incoming velocity is the flight before, from `before`, at that instant;
+// the outgoing one the flight after at it. So the reference (its sample
+// after a contact lies on the wall) measures alpha and beta exactly, an
+// event-driven simulator whose impact falls between samples does too (to
+// round-off), and an engine that bounces the velocity from the start of the
+// step measures its restitution at the step's start.
+struct ImpactVelocities {
+    double t;  // the impact instant
+    Vec3 incoming, outgoing;
+};
+ImpactVelocities impact_velocities(const State& before, const State& after, int axis, int side, double wall,
+                                   const Vec3& gravity);
 
 // Where the ball's centre touches the walls: per axis r (lower) and size - r
 // (upper); unused axes (z in 2D) are unbounded. Every per-state measure runs

@@ -29,11 +29,8 @@ nlohmann::json vec_json(const Vec3& v, int dim) {
 nlohmann::json threshold_set_json(const ThresholdSet& t) {
     nlohmann::json j = nlohmann::json::object();
     if (t.bounce_count) j["bounce_count"] = *t.bounce_count;
-    if (t.bounce_height_rel) j["bounce_height_rel"] = json_number(*t.bounce_height_rel);
-    if (t.trajectory_rms) j["trajectory_rms"] = json_number(*t.trajectory_rms);
-    if (t.trajectory_max) j["trajectory_max"] = json_number(*t.trajectory_max);
-    if (t.restitution_abs) j["restitution_abs"] = json_number(*t.restitution_abs);
-    if (t.tangential_abs) j["tangential_abs"] = json_number(*t.tangential_abs);
+    for (const ThresholdLimit& limit : kThresholdLimits)
+        if (t.*limit.member) j[limit.key] = json_number(*(t.*limit.member));
     return j;
 }
 
@@ -104,6 +101,9 @@ nlohmann::json damping_json(const DampingCheck& d) {
         {"tangential_worst", json_number(d.tangential_worst)},
         {"normal_tolerance", json_number(d.normal_tolerance)},
         {"tangential_tolerance", json_number(d.tangential_tolerance)},
+        {"tangential_loss_mean", json_number(d.tangential_loss_mean)},
+        {"tangential_loss_rel", json_number(d.tangential_loss_rel)},
+        {"tangential_loss_tolerance", json_number(d.tangential_loss_tolerance)},
         {"reproduces", d.reproduces},
         {"verdict", d.verdict},
     };

@@ -612,6 +612,7 @@ std::map<std::string, EngineOptions> read_engines(const toml::table& root, Check
         }
         c.watch_table(*engine, path);
         EngineOptions options;
+        options.tangential_unset = !engine->contains("tangential_model") && !engine->contains("friction");
         if (const auto* model = c.string(*engine, "tangential_model", false, path)) {
             if (model->get() == "friction") options.tangential_model = TangentialModel::friction;
             else if (model->get() == "per-contact") options.tangential_model = TangentialModel::per_contact;
@@ -648,17 +649,9 @@ std::map<std::string, EngineOptions> read_engines(const toml::table& root, Check
 // The keys of a threshold set: bounce_count, and the limits that are numbers >= 0.
 constexpr std::string_view kBounceCountKey = "bounce_count";
 constexpr std::int64_t kMaxBounceCount = 10000;
-constexpr std::array<std::pair<std::string_view, std::optional<double> ThresholdSet::*>, 5> kThresholdLimits{{
-    {"bounce_height_rel", &ThresholdSet::bounce_height_rel},
-    {"trajectory_rms", &ThresholdSet::trajectory_rms},
-    {"trajectory_max", &ThresholdSet::trajectory_max},
-    {"restitution_abs", &ThresholdSet::restitution_abs},
-    {"tangential_abs", &ThresholdSet::tangential_abs},
-}};
-
 bool is_threshold_key(std::string_view key) {
-    return key == kBounceCountKey || std::any_of(kThresholdLimits.begin(), kThresholdLimits.end(),
-                                                 [&](const auto& limit) { return limit.first == key; });
+    return key == kBounceCountKey || std::any_of(std::begin(kThresholdLimits), std::end(kThresholdLimits),
+                                                 [&](const ThresholdLimit& limit) { return limit.key == key; });
 }
 
 // One threshold set: the table [thresholds] or [thresholds.<simulator>] at `path`.
@@ -797,6 +790,7 @@ Scenario validate(const toml::table& root, Checker& c, const std::filesystem::pa
     if (!c.ok()) c.fail();
 
     Scenario s;
+    s.unlisted_engines.tangential_unset = true;  // a file that says nothing of an engine
     s.name = name->get();
     if (description) s.description = description->get();
     s.dim = dim;

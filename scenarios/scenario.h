@@ -29,30 +29,62 @@ struct EngineOptions {
     std::optional<bool> ccd;
     // Engine steps per scenario step, each of dt / substeps (engines/engine.cpp).
     int substeps = 1;
+    // Neither tangential_model nor friction was given in a scenario file:
+    // friction mode with no mu, which is frictionless (beta = 1). The run
+    // says so in its settings, and the damping verdict's tangential loss
+    // fails it wherever the contacts have tangential motion.
+    bool tangential_unset = false;
 };
 
-// CI limits on a simulator's divergence from the reference ([thresholds],
-// [thresholds.<simulator>]). An unset limit is not checked.
+// CI limits on a simulator's divergence from the reference and its error
+// against exact ([thresholds], [thresholds.<simulator>], --threshold). An
+// unset limit is not checked.
 struct ThresholdSet {
     std::optional<int> bounce_count;          // how many bounces (apexes) to compare
+    // Against the reference (the document's model):
     std::optional<double> bounce_height_rel;  // largest relative apex-height divergence over them
     std::optional<double> trajectory_rms;     // RMS centre distance over the run (m)
     std::optional<double> trajectory_max;     // largest centre distance over the run (m)
-    std::optional<double> restitution_abs;    // largest |measured normal coefficient - alpha|
-    std::optional<double> tangential_abs;     // largest |measured tangential retention - beta|
+    // The damping law, measured at the contacts (verdicts/verdicts.h):
+    std::optional<double> restitution_abs;      // largest |measured normal coefficient - alpha|
+    std::optional<double> tangential_abs;       // largest |measured tangential retention - beta|
+    std::optional<double> tangential_loss_rel;  // |mean loss - (1 - beta)| / max(1 - beta, 0.01)
+    // Against exact (the law's truth), for "is my engine right?":
+    std::optional<double> error_bounce_height_rel;  // largest relative apex-height error over the bounces
+    std::optional<double> error_contact_time;       // largest floor-contact time error over them (s)
+    std::optional<double> error_trajectory_rms;     // RMS centre error before exact's rest (m)
+    std::optional<double> error_trajectory_max;     // largest centre error before exact's rest (m)
 
     // This set with every limit `over` sets replaced by `over`'s.
-    ThresholdSet overridden_by(const ThresholdSet& over) const {
-        ThresholdSet out = *this;
-        if (over.bounce_count) out.bounce_count = over.bounce_count;
-        if (over.bounce_height_rel) out.bounce_height_rel = over.bounce_height_rel;
-        if (over.trajectory_rms) out.trajectory_rms = over.trajectory_rms;
-        if (over.trajectory_max) out.trajectory_max = over.trajectory_max;
-        if (over.restitution_abs) out.restitution_abs = over.restitution_abs;
-        if (over.tangential_abs) out.tangential_abs = over.tangential_abs;
-        return out;
-    }
+    ThresholdSet overridden_by(const ThresholdSet& over) const;
 };
+
+// Every limit of a ThresholdSet but bounce_count (an integer), by its key:
+// the one list the loader, --threshold and the reports read.
+struct ThresholdLimit {
+    const char* key;
+    std::optional<double> ThresholdSet::*member;
+};
+inline constexpr ThresholdLimit kThresholdLimits[] = {
+    {"bounce_height_rel", &ThresholdSet::bounce_height_rel},
+    {"trajectory_rms", &ThresholdSet::trajectory_rms},
+    {"trajectory_max", &ThresholdSet::trajectory_max},
+    {"restitution_abs", &ThresholdSet::restitution_abs},
+    {"tangential_abs", &ThresholdSet::tangential_abs},
+    {"tangential_loss_rel", &ThresholdSet::tangential_loss_rel},
+    {"error_bounce_height_rel", &ThresholdSet::error_bounce_height_rel},
+    {"error_contact_time", &ThresholdSet::error_contact_time},
+    {"error_trajectory_rms", &ThresholdSet::error_trajectory_rms},
+    {"error_trajectory_max", &ThresholdSet::error_trajectory_max},
+};
+
+inline ThresholdSet ThresholdSet::overridden_by(const ThresholdSet& over) const {
+    ThresholdSet out = *this;
+    if (over.bounce_count) out.bounce_count = over.bounce_count;
+    for (const ThresholdLimit& limit : kThresholdLimits)
+        if (over.*limit.member) out.*limit.member = over.*limit.member;
+    return out;
+}
 
 struct Thresholds {
     ThresholdSet all;                               // [thresholds]
@@ -84,8 +116,10 @@ struct Scenario {
     double dt = 0.03;        // step of the stepped simulators, and sample spacing of exact
     double duration = 42.0;  // simulated time
 
-    // [engines.<name>] tables; an engine without one runs with EngineOptions{}.
+    // [engines.<name>] tables; an engine without one runs with
+    // `unlisted_engines`: EngineOptions{}, marked tangential_unset by the loader.
     std::map<std::string, EngineOptions> engines;
+    EngineOptions unlisted_engines;
     // External simulators this file declares ([external.<name>] command: the
     // program and its arguments, docs/external.md), and the [engines.<name>]
     // table of each external simulator, as JSON text: handed to the program
@@ -97,7 +131,7 @@ struct Scenario {
     int vertical_axis() const { return dim - 1; }
     EngineOptions engine_options(const std::string& engine) const {
         const auto it = engines.find(engine);
-        return it == engines.end() ? EngineOptions{} : it->second;
+        return it == engines.end() ? unlisted_engines : it->second;
     }
 };
 

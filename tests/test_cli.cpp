@@ -55,7 +55,8 @@ TEST(Cli, RunBundledWritesGoldenTrajectoriesAndReport) {
     const auto report = nlohmann::json::parse(slurp(out / "report.json"));
     EXPECT_EQ(report["schema"], "bouncecheck-report/1");
     EXPECT_NE(slurp(out / "report.html").find("\"kind\":\"run\""), std::string::npos);
-    ASSERT_EQ(report["scenarios"].size(), 4u);  // seed-2d, seed-3d and their per-contact variants
+    // seed-2d, seed-3d, their per-contact variants, earth-drop and game-throw
+    ASSERT_EQ(report["scenarios"].size(), 6u);
     for (const auto& sc : report["scenarios"]) {
         ASSERT_GE(sc["simulators"].size(), 2u);
         EXPECT_EQ(sc["simulators"][0]["simulator"], "reference");
@@ -235,11 +236,13 @@ TEST(Cli, SameInputSameOutputBits) {
     std::size_t ran = 0;
     for (const auto& scenario : report["scenarios"])
         for (const auto& sim : scenario["simulators"]) ran += sim["status"] != "skipped";
-    EXPECT_GE(ran, 4u * 2);  // reference and exact at least, on the four bundled scenarios
+    EXPECT_GE(ran, 6u * 2);  // reference and exact at least, on the six bundled scenarios
     EXPECT_EQ(da.size(), 5 + ran);
     EXPECT_EQ(da, db);
-    // And no wall-clock figure slipped in.
-    for (const auto& sim : report["scenarios"][0]["simulators"]) EXPECT_TRUE(sim["run_seconds"].is_null());
+    // And no wall-clock figure slipped in (a skipped simulator has none at all).
+    for (const auto& scenario : report["scenarios"])
+        for (const auto& sim : scenario["simulators"])
+            if (sim["status"] != "skipped") EXPECT_TRUE(sim.at("run_seconds").is_null()) << sim["simulator"];
     fs::remove_all(a);
     fs::remove_all(b);
 }

@@ -4,6 +4,7 @@
 // seed's and a small dt, friction mode, the command line, and one test per
 // Siconos default the adapter replaces or keeps (restored through
 // siconos::Tuning, its consequence measured).
+#include "commands/stress/stress_suite.h"
 #include "engines/siconos/siconos_adapter.h"
 #include "exact/exact_model.h"
 #include "metrics/summary.h"
@@ -313,8 +314,11 @@ TEST(SiconosSubsteps, RunToTheClocksLastSampleBeyondTheDuration) {
     EXPECT_TRUE(r.states.back().p.allFinite());
 }
 
-// At the seed's dt: the bounces decrease and the stream measures alpha (1 -
-// |g| dt / v) at the floor: the LCP turns the velocity the step starts from.
+// At the seed's dt: the bounces decrease, and the stream measures alpha at
+// the floor to within the step of gravity the samples leave the impact
+// instant uncertain by, (1 + alpha) |g| dt / v (verdicts.h): the LCP turns
+// the velocity the step starts from (measured against the sample before
+// plus a step of gravity, that read alpha (1 - |g| dt / v) to 1e-9).
 TEST(SiconosVsExact, SeedStepBouncesAndStaysNearTheWalls) {
     for (const char* file : {"seed-2d-per-contact.toml", "seed-3d-per-contact.toml"}) {
         const Scenario s = per_contact(seed(file));
@@ -326,7 +330,7 @@ TEST(SiconosVsExact, SeedStepBouncesAndStaysNearTheWalls) {
         const double g = std::abs(s.gravity[s.vertical_axis()]);
         for (const ContactEvent& e : r.summary.contact_events) {
             if (e.normal_speed_in < 30 * g * s.dt || e.axis != s.vertical_axis()) continue;
-            EXPECT_NEAR(e.normal_coefficient, s.alpha * (1 - g * s.dt / e.normal_speed_in), 1e-9) << file << " " << e.t;
+            EXPECT_NEAR(e.normal_coefficient, s.alpha, (1 + s.alpha) * g * s.dt / e.normal_speed_in) << file << " " << e.t;
         }
     }
 }
@@ -501,6 +505,233 @@ TEST(SiconosFriction, CalibratedSeedsRun) {
         EXPECT_GE(r.summary.floor_contacts, 5) << file;
         EXPECT_NE(setting(r.summary, "impact_law").find("NewtonImpactFrictionNSL"), std::string::npos);
     }
+}
+
+// ---------------------------------------------------------------- Siconos's own regression test
+
+// A matrix in Siconos's ascii format (SimpleMatrix(file)): "rows cols", then the rows.
+std::vector<std::vector<double>> read_siconos_matrix(const std::string& file) {
+    std::ifstream in(std::string(BOUNCECHECK_TEST_DATA) + "/siconos/" + file);
+    std::size_t rows = 0, cols = 0;
+    in >> rows >> cols;
+    std::vector<std::vector<double>> m(rows, std::vector<double>(cols));
+    for (auto& row : m)
+        for (double& x : row) in >> x;
+    if (!in || rows == 0) ADD_FAILURE() << "cannot read " << file;
+    return m;
+}
+
+// kernel/swig/tests/test_bouncing_ball.py, test_bouncing_ball1 (tests/data/siconos/README.md):
+// a ball dropped from 1 m onto the floor, e = 0.9, MoreauJeanOSI(theta 0.5),
+// LCP, h = 0.005, 10 s, g = 9.81, radius 0.1. Its relation is y = q[0]: q
+// is the height of the ball's bottom. Here the centre starts at 1.1 in a room
+// whose other walls it never reaches (ceiling 0.2 m above its highest top),
+// and beta = 1: the floor's Newton law is the whole model.
+Scenario siconos_bouncing_ball(int dim) {
+    Scenario s;
+    s.name = "siconos-bouncing-ball";
+    s.dim = dim;
+    s.room = dim == 3 ? Vec3(1, 1, 1.4) : Vec3(1, 1.4, 0);
+    s.radius = 0.1;
+    s.position = dim == 3 ? Vec3(0.5, 0.5, 1.1) : Vec3(0.5, 1.1, 0);
+    s.velocity = Vec3::Zero();
+    s.gravity = Vec3::Zero();
+    s.gravity[s.vertical_axis()] = -9.81;
+    s.alpha = 0.9;
+    s.beta = 1.0;
+    s.dt = 0.005;
+    s.duration = 10.0;
+    s.engines["siconos"] = per_contact_options();
+    return s;
+}
+
+// The largest distance of a run from a Siconos reference matrix, columns t,
+// q (the bottom's height), v (vertical), p, lambda; row k is the state after
+// step k (the test reads it between computeOneStep and nextStep).
+struct RefDeviation {
+    double height = 0, velocity = 0, time = 0, at = 0;
+    std::size_t rows = 0;
+};
+RefDeviation deviation_from(const Scenario& s, const std::vector<State>& states,
+                            const std::vector<std::vector<double>>& ref) {
+    const int z = s.vertical_axis();
+    RefDeviation d;
+    d.rows = std::min(states.size(), ref.size());
+    for (std::size_t k = 0; k < d.rows; ++k) {
+        const double dh = std::abs(states[k].p[z] - s.radius - ref[k][1]);
+        if (dh > d.height) d.at = ref[k][0];
+        d.height = std::max(d.height, dh);
+        d.velocity = std::max(d.velocity, std::abs(states[k].v[z] - ref[k][2]));
+        d.time = std::max(d.time, std::abs(states[k].t - ref[k][0]));
+    }
+    return d;
+}
+
+// The adapter drives Siconos 4.4.0 as that release's own regression test
+// does (the same TimeStepping, MoreauJeanOSI theta 0.5 and LCP, one
+// computeOneStep + nextStep per step): the release's reference data to
+// round-off at every sample, 2D and 3D.
+TEST(SiconosOwnTests, BouncingBallMatchesSiconos440Reference) {
+    const auto ref = read_siconos_matrix("result-4.4.0.ref");
+    ASSERT_EQ(ref.size(), 2001u);
+    for (const int dim : {2, 3}) {
+        const Scenario s = siconos_bouncing_ball(dim);
+        const auto r = run_ts(s);
+        ASSERT_EQ(r.summary.status, RunStatus::ok) << r.summary.reason;
+        ASSERT_GE(r.states.size(), ref.size());
+        const RefDeviation d = deviation_from(s, r.states, ref);
+        std::printf("%dD against Siconos 4.4.0's result.ref, %zu samples: height %.3g m (at t = %.3f s), "
+                    "velocity %.3g m/s, time %.3g s\n",
+                    dim, d.rows, d.height, d.at, d.velocity, d.time);
+        EXPECT_EQ(d.rows, 2001u);
+        EXPECT_LT(d.height, 1e-9) << dim << "D, at t = " << d.at;
+        EXPECT_LT(d.velocity, 1e-9) << dim;
+        EXPECT_LT(d.time, 1e-12) << dim;
+        // The first impact is resolved in the step from 0.45 s to 0.455 s:
+        // at 0.45 s the prediction y + h/2 y_dot = 6.7 mm - 11 mm is <= 0.
+        EXPECT_NEAR(r.states[90].p[s.vertical_axis()] - s.radius, 0.0067375, 1e-9);
+        EXPECT_GT(r.states[91].v[s.vertical_axis()], 0.0);
+    }
+}
+
+// Siconos 4.5.0's version of the same test (BouncingBallTS.ref, commit
+// 844ce62: "correct test bouncing ball with new computeOneStep") resolves the
+// first impact a step earlier (0.0276 m at 0.45 s): from 4.5 on,
+// Simulation::initialize updates the index sets at the start of every step,
+// after computeInitialNewtonState has moved q to the Newton loop's start
+// q + h v, so the prediction is y + h y_dot + h/2 y_dot. It is Siconos that
+// changed, not the adapter: 4.4 with that prediction (gamma = 3/2) gives
+// 4.5.0's data, and the default 0.11 m from it.
+TEST(SiconosOwnTests, Siconos450ReferenceIsTheLaterReleasesPrediction) {
+    const auto ref = read_siconos_matrix("BouncingBallTS-4.5.0.ref");
+    ASSERT_EQ(ref.size(), 2001u);
+    const Scenario s = siconos_bouncing_ball(3);
+    const RefDeviation ours = deviation_from(s, run_ts(s).states, ref);
+    Tuning later;
+    later.gamma = 1.5;
+    const auto r = run_ts(s, later);
+    const RefDeviation emulated = deviation_from(s, r.states, ref);
+    std::printf("against Siconos 4.5.0's BouncingBallTS.ref: the adapter %.3g m (at t = %.3f s); with gamma 3/2 "
+                "%.3g m, velocity %.3g m/s\n",
+                ours.height, ours.at, emulated.height, emulated.velocity);
+    EXPECT_GT(ours.height, 0.1);
+    EXPECT_LT(emulated.height, 1e-9) << "at t = " << emulated.at;
+    EXPECT_LT(emulated.velocity, 1e-9);
+    EXPECT_EQ(setting(r.summary, "gamma"), "1.5");
+}
+
+// ---------------------------------------------------------------- the stress suite (siconos-ed)
+
+// A stress scenario with siconos-ed in the given tangential mode.
+Scenario with_mode(Scenario s, TangentialModel mode) {
+    EngineOptions o;
+    o.tangential_model = mode;
+    s.engines["siconos-ed"] = o;
+    return s;
+}
+
+// DLSODAR locates a root to HMING = 100 eps (|t| + |h|) and returns the far
+// end of its bracket, where the gap is down to -|v| HMING: beyond Siconos's
+// 2.2e-12 m on a 950 m fall (13.7 m/s at 139 s: -1.0e-10 m) and in an
+// 8400 s elastic run (-3.7e-12 m at 0.27 m/s), and EventDriven throws ("output
+// of level 0 must be positive"). The event tolerance sized to that bound runs
+// them; the seeds keep Siconos's.
+TEST(SiconosStress, EventToleranceCoversLsodarsRootLocation) {
+    for (const auto& [file, duration] : {std::pair{"large-room.toml", 600.0}, std::pair{"elastic.toml", 1000.0}}) {
+        Scenario s = load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/stress/" + file);
+        s.duration = duration;  // elastic: past its first throw at 631 s
+        for (const TangentialModel mode : {TangentialModel::friction, TangentialModel::per_contact}) {
+            const Scenario m = with_mode(s, mode);
+            const auto r = run_ed(m);
+            EXPECT_EQ(r.summary.status, RunStatus::ok) << file << ": " << r.summary.reason;
+            EXPECT_NEAR(r.states.back().t, duration, 0.05) << file;
+            const double tol = std::stod(setting(r.summary, "event_tolerance"));
+            EXPECT_GT(tol, Tuning{}.event_tolerance) << file;
+            EXPECT_LT(tol, 1e-9) << file;
+        }
+        Tuning siconos;
+        siconos.size_event_tolerance = false;
+        try {
+            run_ed(with_mode(s, TangentialModel::per_contact), siconos);
+            ADD_FAILURE() << file << ": Siconos's tolerance ran";
+        } catch (const std::exception& e) {
+            EXPECT_NE(std::string(e.what()).find("output of level 0 must be positive"), std::string::npos) << e.what();
+        }
+    }
+    for (const char* file : {"seed-2d.toml", "seed-3d.toml"})
+        EXPECT_EQ(setting(run_ed(per_contact(seed(file))).summary, "event_tolerance"),
+                  "2.2204460492503131e-12 m (EventDriven::_TOL_ED)") << file;
+}
+
+// Six Monte-Carlo scenarios of the bundled stress set (seed 20260101), g up
+// to 8.8 m/s^2 and alpha up to 0.94: the Zeno tail's hops fall below Lsodar's
+// error tolerance on the coordinate (rtol |q| + atol; the gap stays exactly
+// 0) and stop shrinking at 4e-9 to 3e-8 m/s, a root every few ns, more than
+// 10000 in one step. Closing the accumulation there runs them, in both modes.
+TEST(SiconosStress, ZenoTailsBelowLsodarsResolutionClose) {
+    const std::vector<Scenario> set = monte_carlo_scenarios(20260101, 1000);
+    for (const int n : {40, 191, 494, 751, 972}) {
+        const Scenario& s = set[static_cast<std::size_t>(n)];
+        for (const TangentialModel mode : {TangentialModel::friction, TangentialModel::per_contact}) {
+            const char* mode_name = mode == TangentialModel::friction ? "friction" : "per-contact";
+            try {
+                const auto r = run_ed(with_mode(s, mode));
+                EXPECT_EQ(r.summary.status, RunStatus::ok) << s.name << " " << mode_name << ": " << r.summary.reason;
+                EXPECT_TRUE(r.states.back().p.allFinite()) << s.name << " " << mode_name;
+            } catch (const std::exception& e) {
+                ADD_FAILURE() << s.name << " " << mode_name << ": " << e.what();
+            }
+        }
+    }
+    Tuning siconos;
+    siconos.zeno_close_below_resolution = false;
+    try {
+        run_ed(set[40], siconos);
+        ADD_FAILURE() << "monte-carlo-0040 ran without the closure";
+    } catch (const std::exception& e) {
+        EXPECT_NE(std::string(e.what()).find("more than 10000 events within one step"), std::string::npos) << e.what();
+    }
+}
+
+// monte-carlo-0679 (alpha = 1, beta 0.64, gravity tilted into a corner)
+// runs frictionless as generated (mu = 0: no beta, no accumulation); per
+// contact it is declared up front, as exact_corner's files are (Siconos
+// gives up at the corner's accumulation, AlphaOneCornersUpToWhereSiconosGivesUp).
+TEST(SiconosStress, AlphaOneIntoACornerPerContactIsDeclared) {
+    const Scenario s = monte_carlo_scenarios(20260101, 1000)[679];
+    const auto sim = siconos::make_event_driven_simulator({});
+    EXPECT_FALSE(sim->cannot_run(s).has_value());
+    EXPECT_EQ(run_ed(s).summary.status, RunStatus::ok);
+    const auto why = sim->cannot_run(with_mode(s, TangentialModel::per_contact));
+    ASSERT_TRUE(why.has_value());
+    EXPECT_NE(why->find("alpha = 1"), std::string::npos) << *why;
+    EXPECT_NE(why->find("more than 10000 events"), std::string::npos) << *why;
+    for (const char* name : {"monte-carlo-0149", "monte-carlo-0206", "monte-carlo-0396", "monte-carlo-0516",
+                             "monte-carlo-0695", "monte-carlo-0746", "monte-carlo-0754", "monte-carlo-0794"})
+        EXPECT_TRUE(sim->cannot_run(load_scenario(std::string(BOUNCECHECK_TEST_DATA) + "/exact_corner/" + name + ".toml"))
+                        .has_value())
+            << name;
+    // Elastic (beta 1) and a vertical drop at alpha 1 run.
+    Scenario elastic = with_mode(s, TangentialModel::per_contact);
+    elastic.beta = 1;
+    EXPECT_FALSE(sim->cannot_run(elastic).has_value());
+    Scenario vertical = with_mode(s, TangentialModel::per_contact);
+    vertical.gravity.x() = 0;
+    EXPECT_FALSE(sim->cannot_run(vertical).has_value());
+}
+
+// The suite's rows that threw: none crashes any more (exit 3 would be a
+// failed simulator); 0 or 1 is the invariants' verdict.
+TEST(SiconosStress, FormerCrashesRunThroughTheCommand) {
+    const fs::path dir = fs::temp_directory_path() / ("bouncecheck-siconos-stress-" + std::to_string(::getpid()));
+    const auto st = test::bouncecheck("stress --engines siconos-ed --only large-room monte-carlo-0040 monte-carlo-0191 "
+                                      "monte-carlo-0494 monte-carlo-0679 monte-carlo-0751 monte-carlo-0972 --out " +
+                                      dir.string());
+    EXPECT_TRUE(st.status == 0 || st.status == 1) << st.status << "\n" << st.output;
+    const std::string csv = test::slurp(dir / "stress.csv");
+    EXPECT_EQ(csv.find("crashed"), std::string::npos) << csv;
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 8) << csv;
+    fs::remove_all(dir);
 }
 
 // ---------------------------------------------------------------- command line

@@ -40,6 +40,7 @@ public:
         Scenario s = scenario_;
         EngineOptions& options = s.engines[std::string(engine_.name())];
         options.tangential_model = TangentialModel::friction;
+        options.tangential_unset = false;
         options.friction = mu;
         StateVector states;
         const SimulatorSummary summary = record_run(engine_, s, &states);

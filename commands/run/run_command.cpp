@@ -57,14 +57,16 @@ std::optional<std::string> parse_threshold(const std::string& arg, ThresholdSet&
         if (value < 1 || value > 10000 || value != std::floor(value))
             return fmt::format("'{}': bounce_count must be an integer within [1, 10000]", arg);
         out.bounce_count = static_cast<int>(value);
-    } else if (key == "bounce_height_rel") out.bounce_height_rel = value;
-    else if (key == "trajectory_rms") out.trajectory_rms = value;
-    else if (key == "trajectory_max") out.trajectory_max = value;
-    else if (key == "restitution_abs") out.restitution_abs = value;
-    else if (key == "tangential_abs") out.tangential_abs = value;
-    else
-        return fmt::format("'{}': unknown key (bounce_count, bounce_height_rel, trajectory_rms, trajectory_max, "
-                           "restitution_abs, tangential_abs)", key);
+        return std::nullopt;
+    }
+    for (const ThresholdLimit& limit : kThresholdLimits) {
+        if (key != limit.key) continue;
+        out.*limit.member = value;
+        return std::nullopt;
+    }
+    std::vector<std::string> keys{"bounce_count"};
+    for (const ThresholdLimit& limit : kThresholdLimits) keys.emplace_back(limit.key);
+    return fmt::format("'{}': unknown key ({})", key, fmt::join(keys, ", "));
     return std::nullopt;
 }
 

@@ -27,6 +27,7 @@
 #include <array>
 #include <cstdint>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -84,6 +85,19 @@ constexpr std::int64_t kMaxEventsPerStep = 10000;
 
 std::string num(double x) { return fmt::format("{:.17g}", x); }
 
+// DLSODAR returns a root at the far end of its last bracket, up to HMING =
+// 100 UROUND (|t| + |h|) after the crossing (opkda1.f, DRCHEK), so the gap
+// there is down to -|v| HMING; EventDriven::updateIndexSet throws ("output of
+// level 0 must be positive") below -_TOL_ED. |t| and Lsodar's step |h| are at
+// most the final time, |v| at most max_ball_speed: _TOL_ED is raised to that
+// bound where it exceeds Siconos's (a 950 m fall at 600 s, a 8400 s elastic
+// run), and left as it is on the seeds (1.2e-12 m against 2.2e-12 m).
+double event_tolerance(const Scenario& s, double final_time, const Tuning& t) {
+    if (!t.size_event_tolerance) return t.event_tolerance;
+    const double hming = 100 * std::numeric_limits<double>::epsilon() * 2 * final_time;
+    return std::max(t.event_tolerance, max_ball_speed(s) * hming);
+}
+
 ModelSpec model_spec(const Scenario& s, const EngineOptions& options, const Tuning& t, bool event_driven) {
     ModelSpec m;
     m.scheme = event_driven ? Scheme::event_driven : Scheme::moreau_jean;
@@ -118,7 +132,7 @@ ModelSpec model_spec(const Scenario& s, const EngineOptions& options, const Tuni
     m.solver_max_iterations = t.solver_max_iterations;
     m.lsodar_rtol = t.lsodar_rtol;
     m.lsodar_atol = t.lsodar_atol;
-    m.event_tolerance = t.event_tolerance;
+    m.event_tolerance = event_driven ? event_tolerance(s, m.final_time, t) : t.event_tolerance;
     return m;
 }
 
@@ -227,15 +241,27 @@ private:
     // alpha 0.5: they cycle at 2.2e-10 m/s, 7e-10 s apart, for good).
     void close_accumulation() {
         const WallStatuses walls = model_.walls();
+        const auto p = model_.position();
         auto v = model_.velocity();
         bool closed = false;
         for (std::size_t w = 0; w < walls_.size(); ++w) {
             const Wall& wall = walls_[w];
             const double g_into = gravity_[wall.axis] * wall.side;
             const double u = v[wall.axis] * wall.side;  // > 0: into the wall
-            if (walls[w].gap > tuning_.event_tolerance || walls[w].in_resting_set || !(u > 0) || !(g_into > 0) ||
-                !(s_alpha_ < 1) || !(2 * s_alpha_ * u / (g_into * (1 - s_alpha_)) < tuning_.zeno_close_time))
+            if (walls[w].gap > model_.effective().event_tolerance || walls[w].in_resting_set || !(u > 0) || !(g_into > 0) ||
+                !(s_alpha_ < 1))
                 continue;
+            const bool short_tail = 2 * s_alpha_ * u / (g_into * (1 - s_alpha_)) < tuning_.zeno_close_time;
+            // The law's next hop, (alpha u)^2 / (2 g_n) high, lower than
+            // Lsodar's error tolerance on the coordinate (rtol |q| + atol): it
+            // is integrated with errors of its own size, the gap stays exactly
+            // 0, and Siconos's hops stop shrinking, a root every few ns for
+            // good (g = 8.8 m/s^2, alpha 0.92: at 1e-8 m/s).
+            const siconos_model::Effective& e = model_.effective();
+            const double resolution = e.lsodar_rtol * std::abs(p[wall.axis]) + e.lsodar_atol;
+            const bool below_resolution = tuning_.zeno_close_below_resolution &&
+                                          (s_alpha_ * u) * (s_alpha_ * u) / (2 * g_into) < resolution;
+            if (!short_tail && !below_resolution) continue;
             // Friction mode (mu = 0 here: siconos-ed has no Coulomb friction)
             // keeps the tangential velocity; per-contact takes beta^inf.
             if (per_contact_) {
@@ -261,7 +287,7 @@ private:
         bool scaled = false;
         for (std::size_t w = 0; w < walls_.size(); ++w) {
             const Wall& wall = walls_[w];
-            if (after[w].gap > tuning_.event_tolerance || before[w].in_resting_set) continue;
+            if (after[w].gap > model_.effective().event_tolerance || before[w].in_resting_set) continue;
             if (v_pre[wall.axis] * wall.side <= 0) continue;
             ++stats_.new_contacts;
             ++stats_.beta_applied;
@@ -345,8 +371,10 @@ void SiconosWorld::report(const Scenario& s, const EngineOptions& options, std::
             "short of exact's). Free flight is a parabola, which Lsodar's Adams methods of order >= 2 integrate "
             "exactly");
         set("event_tolerance", fmt::format("{} m (EventDriven::_TOL_ED)", num(e.event_tolerance)),
-            "Siconos's default 1000 x 10 eps, set by every world (it is a static). A gap within it is a contact; a "
-            "post-impact normal speed within it closes the contact (Siconos's Zeno end: the ball rests on the wall)");
+            "Siconos's default 1000 x 10 eps, raised to max_ball_speed x 100 eps x 2 T where that is larger (Lsodar "
+            "returns a root up to 100 eps (|t| + |h|) past the crossing; a deeper gap makes EventDriven throw), set by "
+            "every world (it is a static). A gap within it is a contact; a post-impact normal speed within it closes "
+            "the contact (Siconos's Zeno end: the ball rests on the wall)");
         set("event_time_grid", fmt::format("tick {} s, events within {} ticks merged", num(e.tick), e.gap_limit_ticks),
             "Siconos's defaults (Event::_tick, EventsManager::_GapLimit2Events): event times are integers of ticks");
         set("zeno_end",
@@ -354,11 +382,14 @@ void SiconosWorld::report(const Scenario& s, const EngineOptions& options, std::
                 ? fmt::format("at a root on a wall gravity presses into, when the law's accumulation left after the "
                               "impact, 2 alpha u / (|g_n| (1 - alpha)), is below {} s: normal velocity 0 (and, "
                               "per-contact, the others beta^inf), outputs recomputed, Siconos then holds the ball "
-                              "(indexSet 2)",
-                              num(t.zeno_close_time))
+                              "(indexSet 2); also when the law's next hop, (alpha u)^2 / (2 |g_n|), is lower than "
+                              "Lsodar's error tolerance on the coordinate (rtol |q| + atol){}",
+                              num(t.zeno_close_time), t.zeno_close_below_resolution ? "" : " [off]")
                 : std::string("Siconos's own only (a post-impact speed within _TOL_ED)"),
             "Siconos's hops stop shrinking before _TOL_ED under stronger gravity (g = 1 m/s^2, alpha 0.5: they cycle "
-            "at 2.2e-10 m/s, 7e-10 s apart, for good); the ball misses at most |v| x the time left of travel");
+            "at 2.2e-10 m/s, 7e-10 s apart, for good), and below Lsodar's resolution (g = 8.8 m/s^2, alpha 0.92: at "
+            "1e-8 m/s, the gap exactly 0, more than 10000 roots in one step); the ball misses at most |v| x the time "
+            "left of travel");
         set("nonsmooth_problem", "impact LCP (velocity level) and acceleration LCP, Lemke",
             "EventDriven's two problems; friction is refused (LsodarOSI does not implement NewtonImpactFrictionNSL)");
     }
@@ -438,6 +469,18 @@ public:
                                "implement NewtonImpactFrictionNSL; use tangential_model = \"per-contact\", mu = 0, "
                                "or the time-stepping simulator \"siconos\"",
                                o.friction);
+        if (event_driven_ && o.tangential_model == TangentialModel::per_contact && s.alpha == 1 && s.beta < 1) {
+            int pressed = 0;
+            for (int a = 0; a < s.dim; ++a) pressed += s.gravity[a] != 0;
+            if (pressed >= 2)
+                return fmt::format(
+                    "siconos-ed cannot run alpha = 1 with per-contact beta = {} under gravity along {} axes: the "
+                    "ball is driven into an edge or corner, where the law's bounces accumulate (each wall's beta "
+                    "damps the other's normal speed); EventDriven closes an accumulation only when a post-impact "
+                    "normal speed falls within _TOL_ED, which alpha = 1 never does, and the adapter's closures need "
+                    "alpha < 1, so the run ends in more than 10000 events within one step",
+                    s.beta, pressed);
+        }
         return std::nullopt;
     }
 
