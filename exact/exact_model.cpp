@@ -318,8 +318,61 @@ bool ExactModel::sum_tail(Motion& m, int axis, int side) {
     lock_axis(rest, axis, side, false);
     tail_ = ZenoTail{m.t, position(m), m.v, axis, side, u, g, flight0, rest.t - m.t, position(rest), rest.v};
     push_segment(m, true);
+    list_tail_hops();
     m = rest;
     return true;
+}
+
+// The summed tail's hops in contacts_ and apexes_, from their closed forms
+// (header: listed_tail_contacts): hop k while the accumulation time it leaves,
+// flight0 alpha^k / (1 - alpha), is at least kLockTime (where a resolved Zeno
+// locks), within [0, duration], at most kMaxListedTailHops. alpha^k, the hop
+// starts and the tangential travel are tail_hop's expressions, so a listed
+// contact has the velocity and position that tail_state gives at its hop's
+// start. Nothing here feeds the segments: the states do not change.
+void ExactModel::list_tail_hops() {
+    const ZenoTail& z = *tail_;
+    const auto hop_start = [&](double k) { return z.flight0 * (1 - std::pow(alpha_, k)) / (1 - alpha_); };
+    // Apexes are turning points of the vertical coordinate: with gravity only
+    // along the tail's axis, the tail has some only if that axis is vertical.
+    const bool vertical = z.axis == dim_ - 1;
+    const double wall_at = wall(z.axis, z.side);
+    tail_contacts_ = {contacts_.size(), 0};
+    tail_apexes_ = {apexes_.size(), 0};
+    double last_t = z.t0;
+    for (double k = 0; k < static_cast<double>(kMaxListedTailHops); k += 1) {
+        const double alpha_k = std::pow(alpha_, k);
+        if (!(z.flight0 * alpha_k / (1 - alpha_) >= kLockTime)) break;
+        const double u_k = z.u * alpha_k;  // hop k's normal speed, leaving the wall
+        // A hop is listed while its height is resolved in the wall's
+        // coordinate to 1e-11 of itself (apexes and contacts are absolute
+        // coordinates): down to 1e-6 of the room, hops far shorter than any dt.
+        if (!(u_k * u_k / (2 * z.g) >= 1e-6 * size_[z.axis])) break;
+        const double start = z.t0 + hop_start(k);
+        if (vertical) {
+            const double t = start + u_k / z.g;
+            if (!(t <= end_)) break;
+            const double height = wall_at - z.side * (u_k * u_k / (2 * z.g));
+            apexes_.push_back({t, std::clamp(height, lo_[z.axis], hi_[z.axis])});
+            ++tail_apexes_.count;
+        }
+        // The contact that ends hop k and starts hop k + 1. Past the double
+        // resolution of the clock (a long run's late tail) times stop growing.
+        const double t = z.t0 + hop_start(k + 1);
+        if (!(t <= end_ && t > last_t)) break;
+        last_t = t;
+        WallContact c{t, z.axis, z.side, Vec3::Zero(), std::pow(beta_, k) * z.v0, std::pow(beta_, k + 1) * z.v0};
+        c.v_before[z.axis] = z.side * u_k;
+        // The contact as state_at gives it, which at a contact instant is
+        // the state after it: the closed-form instant, moved up by an ulp
+        // or two where round-off leaves it at the end of the hop before.
+        State at = state_at(c.t);
+        for (int ulps = 0; ulps < 8 && z.side * at.v[z.axis] > 0; ++ulps) at = state_at(c.t = std::nextafter(c.t, end_));
+        c.p = at.p;
+        c.v_after = at.v;
+        contacts_.push_back(c);
+        ++tail_contacts_.count;
+    }
 }
 
 void ExactModel::lock_axis(Motion& m, int axis, int side, bool zero_other_velocities) {

@@ -22,7 +22,11 @@
 //   hop of it in O(1)); the ball then rests on the wall with tangential velocity
 //   0 if beta < 1 (infinitely many contacts scale it by beta) or unchanged if
 //   beta = 1, and that axis is locked. Until the tail fits, bounces are resolved
-//   one by one.
+//   one by one. The summed tail's hops are still listed in contacts() and
+//   apexes(), from their closed forms, while a hop's height is at least 1e-6
+//   of the room (so its absolute coordinates resolve it to 1e-11) and at most
+//   kMaxListedTailHops of them;
+//   the rest of the infinite sequence is summed_tail_contacts() = -1.
 // - Zeno with a tangential gravity component (or a tail that never fits),
 //   0 < alpha < 1: bounces are resolved one by one until the remaining
 //   accumulation time R = (2u/|g_n|) / (1 - alpha) is below 1e-12 s; then the
@@ -115,21 +119,43 @@ public:
     // velocity after the contact. The position is always inside [r, size - r].
     State state_at(double t) const;
 
-    // Every resolved contact in time order; a corner gives one per wall, with
-    // the same t. The closed-form Zeno tail is not expanded (infinitely many
-    // contacts): see summed_tail_contacts().
+    // Every contact in [0, duration] in time order; a corner gives one per
+    // wall, with the same t. The summed Zeno tail's contacts are listed from
+    // their closed forms (see listed_tail_contacts()) down to hops whose
+    // remaining accumulation time is 1e-12 s, as a resolved Zeno lists its
+    // own; the infinitely many after those are summed_tail_contacts().
     const std::vector<WallContact>& contacts() const { return contacts_; }
     // The apex (Apex, simulators/state.h: the centre's vertical coordinate, not
-    // the height above the floor) of every resolved flight: the turning point
-    // of the vertical coordinate, a top (or a bottom if gravity points up).
-    // Includes the initial one if the ball starts rising or vertically at rest
-    // in flight; the summed Zeno tail's hops are not listed.
+    // the height above the floor) of every flight in [0, duration]: the
+    // turning point of the vertical coordinate, a top (or a bottom if gravity
+    // points up). Includes the initial one if the ball starts rising or
+    // vertically at rest in flight, and the listed hops of a summed Zeno tail
+    // on the floor (or ceiling): see listed_tail_apexes().
     const std::vector<Apex>& apexes() const { return apexes_; }
+    // The part of contacts() and of apexes() that the summed Zeno tail lists
+    // (empty if none). Hop k = 0, 1, ... of the tail (the one after the bounce
+    // that starts it, at t0 with normal speed u) starts at
+    // t0 + flight0 (1 - alpha^k) / (1 - alpha), flight0 = 2 u / g; contact
+    // k = 1, 2, ... ends hop k - 1 with normal speed u alpha^(k-1) in and
+    // u alpha^k out, tangential velocity v0 beta^(k-1) in and v0 beta^k out;
+    // hop k's apex is at its middle, u alpha^k / g later, u^2 alpha^2k / (2 g)
+    // from the wall. Times and velocities are the ones state_at gives at the
+    // hop boundaries (the same alpha^k, the same hop starts).
+    std::span<const WallContact> listed_tail_contacts() const {
+        return std::span(contacts_).subspan(tail_contacts_.first, tail_contacts_.count);
+    }
+    std::span<const Apex> listed_tail_apexes() const {
+        return std::span(apexes_).subspan(tail_apexes_.first, tail_apexes_.count);
+    }
+    // At most this many hops of a summed tail are listed (memory: ~100 bytes
+    // a hop); only alpha above ~0.993 reaches it.
+    static constexpr std::int64_t kMaxListedTailHops = 4096;
     // When the vertical axis came to rest on its floor (Zeno accumulation time,
     // threshold lock or alpha = 0 impact), if within duration.
     std::optional<double> rest_time() const { return rest_time_; }
     // -1: an infinite tail of contacts was summed in closed form (at most one per
-    // run: it leaves no gravity on free axes). 0: none was.
+    // run: it leaves no gravity on free axes); its first hops are listed in
+    // contacts(), the rest are uncounted. 0: none was.
     std::int64_t summed_tail_contacts() const { return tail_ ? -1 : 0; }
     // True if the run stopped at max_events contact instants before the horizon;
     // the solution after the last segment start is then unreliable.
@@ -250,6 +276,7 @@ private:
     void apply_contacts(Motion& m, const bool (&hit)[3][2]);
     void settle_pressed_walls(Motion& m, const bool (&hit)[3][2]);
     bool sum_tail(Motion& m, int axis, int side);
+    void list_tail_hops();
     void lock_corner(Motion& m);
     void lock_axis(Motion& m, int axis, int side, bool zero_other_velocities);
     void lock_resting_axes(Motion& m);
@@ -281,6 +308,10 @@ private:
     std::vector<WallContact> contacts_;
     std::vector<Apex> apexes_;
     std::optional<ZenoTail> tail_;
+    // Where the summed tail's listed contacts and apexes are in contacts_ and apexes_.
+    struct Listed {
+        std::size_t first = 0, count = 0;
+    } tail_contacts_, tail_apexes_;
     std::optional<double> rest_time_;
     bool event_cap_hit_ = false;
     // lock_corner's watch on an alpha = 1 corner that may have stopped

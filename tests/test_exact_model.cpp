@@ -1,4 +1,5 @@
 #include "exact/exact_model.h"
+#include "scenarios/loader.h"
 
 #include <gtest/gtest.h>
 
@@ -103,7 +104,11 @@ TEST(ExactModelZeno, DropRestTimeMatchesClosedForm) {
         ASSERT_TRUE(model.rest_time());
         EXPECT_NEAR(*model.rest_time(), t0 + 2 * alpha * v0 / (g * (1 - alpha)), 1e-9 * *model.rest_time());
         EXPECT_EQ(model.summed_tail_contacts(), -1);
-        EXPECT_EQ(model.contacts().size(), 1u);  // the tail after the first impact is summed
+        // The tail after the first impact is summed: its hops are listed
+        // from the closed form, and nothing else is there.
+        EXPECT_EQ(model.contacts().size() - model.listed_tail_contacts().size(), 1u);
+        ASSERT_FALSE(model.listed_tail_contacts().empty());
+        EXPECT_NEAR(model.listed_tail_contacts().front().t, t0 + 2 * alpha * v0 / g, 1e-12);
     }
 }
 
@@ -151,7 +156,7 @@ TEST(ExactModelZeno, TangentialTravelMatchesClosedForm) {
     const Vec3 v{0.1, -0.05, 0};
     const Scenario s = make_scenario(3, {10, 10, 1}, 0.05, {5, 5, 0.5}, v, {0, 0, -g}, alpha, beta, 20);
     const ExactModel model(s);
-    ASSERT_EQ(model.contacts().size(), 1u);
+    ASSERT_EQ(model.contacts().size() - model.listed_tail_contacts().size(), 1u);  // and the summed tail's
     const WallContact& c = model.contacts().front();
     const double u = c.v_after[2];
     const double tail_time = (2 * u / g) / (1 - alpha * beta);
@@ -172,8 +177,9 @@ TEST(ExactModelZeno, BetaOneSlidesAfterRestAndBouncesOffSideWalls) {
     EXPECT_EQ(rest.v[0], last_floor.v_after[0]);  // beta = 1: the tail keeps the sliding speed
     EXPECT_EQ(rest.v[2], 0.0);
     // Sliding on the floor, it reaches the side wall with the floor axis locked.
-    ASSERT_GE(model.contacts().size(), 2u);
-    const WallContact& side = model.contacts()[1];
+    const std::size_t after_tail = 1 + model.listed_tail_contacts().size();  // past the summed tail's listed hops
+    ASSERT_GE(model.contacts().size(), after_tail + 1);
+    const WallContact& side = model.contacts()[after_tail];
     EXPECT_GT(side.t, *model.rest_time());
     EXPECT_EQ(side.axis, 0);
     EXPECT_EQ(side.side, +1);
@@ -344,7 +350,13 @@ TEST(ExactModelBounds, PositionIsContinuousThroughContacts) {
         }
         const State at = model.state_at(c.t);
         EXPECT_EQ(at.p, c.p);
-        EXPECT_EQ(at.p[c.axis], c.side < 0 ? s.radius : s.room[c.axis] - s.radius);
+        const double wall = c.side < 0 ? s.radius : s.room[c.axis] - s.radius;
+        // A resolved contact is on the wall to the bit; a summed tail's
+        // listed hop is where the tail's closed form puts its start.
+        const auto tail = model.listed_tail_contacts();
+        const bool listed = !tail.empty() && &c >= tail.data() && &c < tail.data() + tail.size();
+        if (listed) EXPECT_NEAR(at.p[c.axis], wall, 1e-15);
+        else EXPECT_EQ(at.p[c.axis], wall);
     }
 }
 
@@ -522,6 +534,38 @@ TEST(ExactModelRest, StartingAtRestOnTheFloor) {
     EXPECT_TRUE(model.apexes().empty());
     EXPECT_EQ(model.rest_time(), 0.0);
     EXPECT_EQ(model.state_at(5).p, s.position);
+}
+
+}  // namespace
+}  // namespace bouncecheck
+
+namespace bouncecheck {
+namespace {
+
+// The bundled Earth drop (alpha 0.7, dt 0.01): its Zeno tail is summed from
+// the first impact, and every hop of it is listed from the closed form.
+TEST(ExactModelZeno, EarthDropListsTheSummedTailsBounces) {
+    const Scenario s = load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/earth-drop.toml");
+    const ExactModel model(s);
+    const double g = 9.81, h = 1.0, alpha = s.alpha, r = s.radius;
+    const double v0 = std::sqrt(2 * g * h), t1 = std::sqrt(2 * h / g);
+    EXPECT_EQ(model.summed_tail_contacts(), -1);
+    const auto& apexes = model.apexes();
+    ASSERT_GE(apexes.size(), 8u);
+    for (std::size_t k = 0; k < apexes.size(); ++k)
+        EXPECT_NEAR(apexes[k].height, r + h * std::pow(alpha, 2.0 * k), 1e-9) << "apex " << k;
+    const auto& contacts = model.contacts();
+    ASSERT_GE(contacts.size(), 8u);
+    double t = t1;
+    for (std::size_t k = 0; k < contacts.size(); ++k) {
+        EXPECT_NEAR(contacts[k].t, t, 1e-12) << "contact " << k;
+        EXPECT_NEAR(-contacts[k].v_before[2], v0 * std::pow(alpha, k), 1e-12 * v0);
+        EXPECT_NEAR(contacts[k].v_after[2], v0 * std::pow(alpha, k + 1), 1e-12 * v0);
+        t += 2 * v0 * std::pow(alpha, k + 1) / g;
+    }
+    // Every bounce more than a step long is listed: the first unlisted hop is shorter.
+    const double last_flight = 2 * v0 * std::pow(alpha, contacts.size()) / g;
+    EXPECT_LT(last_flight, s.dt);
 }
 
 }  // namespace
