@@ -73,7 +73,10 @@ nlohmann::json sweep_json(const Scenario& s, const SweepResult& r, const nlohman
     }
     nlohmann::json orders = nlohmann::json::array();
     for (const SweepOrder& o : r.orders)
-        orders.push_back({{"engine", o.engine}, {"order", json_number(o.order)}, {"points", o.points}});
+        orders.push_back({{"engine", o.engine},
+                          {"order", json_number(o.order)},
+                          {"points", o.points},
+                          {"caveat", order_caveat(o, r, s)}});
     nlohmann::json out = {{"schema", kSweepSchema},
             {"version", BOUNCECHECK_VERSION},
             {"scenario", s.name},
@@ -86,6 +89,21 @@ nlohmann::json sweep_json(const Scenario& s, const SweepResult& r, const nlohman
             {"orders", std::move(orders)}};
     if (!provenance.is_null()) out["provenance"] = provenance;
     return out;
+}
+
+std::string order_caveat(const SweepOrder& o, const SweepResult& r, const Scenario& s) {
+    if (!o.order) return "";
+    double largest = 0;
+    for (const SweepRow& row : r.rows)
+        if (row.engine == o.engine && row.status == RunStatus::ok && row.error) largest = std::max(largest, *row.error);
+    const double room = s.room.head(s.dim).maxCoeff();
+    if (largest < 1e-9 * room)
+        return fmt::format("not an order: every error is round-off (largest {:.2g} m)", largest);
+    const auto table = s.engines.find(o.engine);
+    const bool tangential_motion = s.velocity.head(s.dim - 1).norm() > 0 || s.gravity.head(s.dim - 1).norm() > 0;
+    if (table != s.engines.end() && table->second.tangential_model == TangentialModel::friction && tangential_motion)
+        return "not the law's order: friction mode converges to Coulomb friction, not to beta";
+    return "";
 }
 
 std::string format_sweep(const Scenario& s, const SweepResult& r) {
@@ -104,9 +122,10 @@ std::string format_sweep(const Scenario& s, const SweepResult& r) {
                                table_number(row.error, "{:.4e}"), table_number(row.bounce_error, "{:.4e}"),
                                table_number(row.ns_per_step, "{:.1f}"), status);
         }
+        const std::string caveat = order_caveat(o, r, s);
         if (o.order)
-            out += fmt::format("  {:<10} observed order {:.3f} (least squares over {} points)\n", o.engine, *o.order,
-                               o.points);
+            out += fmt::format("  {:<10} observed order {:.3f} (least squares over {} points){}\n", o.engine,
+                               *o.order, o.points, caveat.empty() ? "" : ": " + caveat);
         else
             out += fmt::format("  {:<10} observed order: not enough points ({} with error > 0)\n", o.engine, o.points);
     }

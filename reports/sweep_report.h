@@ -58,6 +58,12 @@ nlohmann::json sweep_json(const Scenario& s, const SweepResult& r, const nlohman
                           const nlohmann::json& provenance = nullptr);
 // The terminal table: engine, dt, error, bounce error, ns/step; each engine's order.
 std::string format_sweep(const Scenario& s, const SweepResult& r);
+
+// Why an engine's fitted order is not the law's convergence order, if it is
+// not: errors at the round-off floor (largest below 1e-9 of the room) have no
+// order; an engine in friction mode converges to Coulomb friction, not to the
+// law's beta, once the scenario has tangential motion. Empty otherwise.
+std::string order_caveat(const SweepOrder& o, const SweepResult& r, const Scenario& s);
 // sweep.html: the work-precision plot (log-log error against cost, one line
 // per engine, the Pareto front marked) and the orders, self-contained like
 // report.html (reports/html_report.cpp).

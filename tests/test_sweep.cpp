@@ -127,6 +127,28 @@ TEST(SweepOrder, FitsAKnownSlope) {
     EXPECT_FALSE(fit_order(rows, "y").order);
 }
 
+// An order is printed with why it is not the law's: round-off has none,
+// and friction mode converges to Coulomb friction.
+TEST(SweepOrder, CaveatsNameRoundOffAndFrictionMode) {
+    Scenario s = load_scenario(std::string(BOUNCECHECK_SCENARIO_DIR) + "/seed-2d.toml");
+    SweepResult r;
+    for (const double dt : {0.03, 0.01, 0.003}) {
+        for (const char* engine : {"floor", "bullet", "law"}) {
+            SweepRow row;
+            row.engine = engine;
+            row.dt = dt;
+            row.error = std::string(engine) == "floor" ? 1e-13 * dt : dt;
+            r.rows.push_back(row);
+        }
+    }
+    for (const char* engine : {"floor", "bullet", "law"}) r.orders.push_back(fit_order(r.rows, engine));
+    EXPECT_NE(order_caveat(r.orders[0], r, s).find("round-off"), std::string::npos);
+    EXPECT_NE(order_caveat(r.orders[1], r, s).find("Coulomb"), std::string::npos);  // seed-2d's bullet has a mu
+    EXPECT_EQ(order_caveat(r.orders[2], r, s), "");
+    s.engines["bullet"].tangential_model = TangentialModel::per_contact;
+    EXPECT_EQ(order_caveat(r.orders[1], r, s), "");
+}
+
 TEST(SweepPareto, KeepsTheRowsNoOtherBeatsOnBothCostAndError) {
     // (cost, error): (1, 10) front; (2, 5) front; (3, 5) dominated by (2, 5);
     // (4, 1) front; (0.5, 20) front; a failed row and a zero-error row are never on it.
