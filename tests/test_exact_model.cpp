@@ -1,4 +1,5 @@
 #include "exact/exact_model.h"
+#include "tests/support/scenarios.h"
 #include "scenarios/loader.h"
 
 #include <gtest/gtest.h>
@@ -12,22 +13,7 @@
 namespace bouncecheck {
 namespace {
 
-Scenario make_scenario(int dim, Vec3 room, double radius, Vec3 position, Vec3 velocity, Vec3 gravity, double alpha,
-                       double beta, double duration, double dt = 0.03) {
-    Scenario s;
-    s.name = "test";
-    s.dim = dim;
-    s.room = room;
-    s.radius = radius;
-    s.position = position;
-    s.velocity = velocity;
-    s.gravity = gravity;
-    s.alpha = alpha;
-    s.beta = beta;
-    s.dt = dt;
-    s.duration = duration;
-    return s;
-}
+using test::make_scenario;
 
 Scenario seed_3d() { return Scenario{}; }  // the Scenario defaults are seed-3d
 
