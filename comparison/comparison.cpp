@@ -398,6 +398,8 @@ Divergence compare_bounces(const SimulatorSummary& self, const SimulatorSummary&
         b.contact_t = contact_after(self_floor, self.apexes[i].t);
         b.baseline_contact_t = contact_after(base_floor, baseline.apexes[i].t);
         d.bounce_height_rel_max = std::max(d.bounce_height_rel_max, b.rel_diff);
+        if (b.contact_t && b.baseline_contact_t)
+            d.contact_time_max = std::max(d.contact_time_max.value_or(0.0), std::abs(*b.contact_t - *b.baseline_contact_t));
         d.bounces.push_back(b);
     }
     if (n < static_cast<std::size_t>(bounce_count)) {

@@ -45,6 +45,10 @@ struct Divergence {
     std::string baseline;
     std::vector<BounceDiff> bounces;  // min(bounce_count, both sides' apex counts)
     double bounce_height_rel_max = 0;
+    // The largest |floor-contact time - the baseline's| over the compared
+    // bounces (s); empty when no bounce has both. With the bounce heights it
+    // ranks engines where one shifted event dominates the trajectory's distance.
+    std::optional<double> contact_time_max;
     std::int64_t apexes_self = 0, apexes_baseline = 0;
     std::string note;  // how sequences of different lengths were handled
     TrajectoryDivergence trajectory;

@@ -7,13 +7,16 @@
 #include "metrics/summary.h"
 #include "scenarios/loader.h"
 #include "tests/support/engine_run.h"
+#include "tests/support/cli.h"
 #include "tests/support/engine_tests.h"
+#include "tests/support/test_directory.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <string>
 #include <vector>
@@ -551,6 +554,41 @@ TEST(OdeInit, RepeatedRunsAndSeveralWorldsAgree) {
     const auto r1 = test::run_simulator("ode", s), r2 = test::run_simulator("ode", s);
     EXPECT_EQ(r1.summary.final_state.p, r2.summary.final_state.p);
     EXPECT_EQ(r1.summary.final_state.p, sa.p);
+}
+
+}  // namespace
+}  // namespace bouncecheck
+
+namespace bouncecheck {
+namespace {
+
+class OdeCalibrateCli : public test::TestDirectory {};
+
+// `calibrate --against exact` fits mu to the law's solution, not the
+// document's Euler: another objective, so another mu, and the file says which.
+TEST_F(OdeCalibrateCli, AgainstExactFitsAnotherMuAndSaysSo) {
+    const std::string seed = std::string(BOUNCECHECK_SCENARIO_DIR) + "/seed-2d.toml";
+    const auto vs_reference = test::bouncecheck("calibrate " + seed + " --engine ode");
+    ASSERT_EQ(vs_reference.status, 0) << vs_reference.output;
+    EXPECT_NE(vs_reference.output.find("from reference over the run"), std::string::npos) << vs_reference.output;
+
+    const std::filesystem::path copy = write_file("seed-2d.toml", test::slurp(seed));
+    const auto vs_exact = test::bouncecheck("calibrate " + copy.string() + " --engine ode --against exact --write");
+    ASSERT_EQ(vs_exact.status, 0) << vs_exact.output;
+    EXPECT_NE(vs_exact.output.find("from exact over the run"), std::string::npos) << vs_exact.output;
+    const Scenario written = load_scenario(copy.string());
+    const double mu_exact = written.engine_options("ode").friction;
+    EXPECT_NE(test::slurp(copy).find("m from exact"), std::string::npos);
+    const auto mu_in = [](const std::string& output) {
+        const auto at = output.find("mu = ");
+        return at == std::string::npos ? -1.0 : std::stod(output.substr(at + 5));
+    };
+    EXPECT_NEAR(mu_in(vs_exact.output), mu_exact, 1e-5 * mu_exact);
+    EXPECT_GT(std::abs(mu_exact - mu_in(vs_reference.output)), 0.1 * mu_exact) << vs_reference.output;
+
+    const auto unknown = test::bouncecheck("calibrate " + seed + " --engine ode --against truth");
+    EXPECT_EQ(unknown.status, 2) << unknown.output;
+    EXPECT_NE(unknown.output.find("truth not in {reference,exact}"), std::string::npos) << unknown.output;
 }
 
 }  // namespace

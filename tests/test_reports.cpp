@@ -57,6 +57,7 @@ Divergence divergence(const std::string& baseline, double rel_max, double rms) {
     d.bounces.push_back(BounceDiff{0, 0.70, 0.70, 0.0, 0.0, 4.0, 4.0});
     d.bounces.push_back(BounceDiff{1, 0.50 * (1 + rel_max), 0.50, 0.5 * rel_max, rel_max, 6.0, std::nullopt});
     d.bounce_height_rel_max = rel_max;
+    d.contact_time_max = 0.0;  // bounce 0's contacts agree; bounce 1 has no baseline contact
     d.apexes_self = 2;
     d.apexes_baseline = 2;
     d.note = "compared the first 2 apexes";
@@ -91,6 +92,7 @@ Comparison reference_comparison() {
     Comparison c;
     c.vs_reference = divergence("reference", 0.0, 0.0);
     c.vs_exact = divergence("exact", 0.001, 1.5e-6);
+    c.vs_exact.contact_time_max = 0.03;  // within 1 cm of exact over the whole run: no first_exceeds
     c.damping.contacts = 4;
     c.damping.tangential_contacts = 3;
     c.damping.normal_mean = 0.8;
@@ -121,6 +123,8 @@ Comparison bullet_comparison() {
     c.vs_reference = divergence("reference", 0.04, 0.0123);
     c.vs_exact = divergence("exact", 0.041, 0.0125);
     c.vs_exact.trajectory.max = std::numeric_limits<double>::infinity();  // written as null
+    c.vs_exact.contact_time_max = 0.1;
+    c.vs_exact.trajectory.first_exceeds = 2.52;
     c.damping.contacts = 2;
     c.damping.tangential_contacts = 0;
     c.damping.normal_mean = 0.75;
@@ -202,6 +206,8 @@ TEST(ReportsJson, HasComparisonFieldsAndParses) {
     EXPECT_TRUE(t["first_exceeds"].is_null());
     for (const char* key : {"max", "rms_before_rest", "max_before_rest", "tolerance"}) EXPECT_TRUE(t.contains(key));
     EXPECT_TRUE(c["vs_exact"]["trajectory"]["max"].is_null());  // infinity
+    EXPECT_DOUBLE_EQ(c["vs_exact"]["contact_time_max"].get<double>(), 0.1);
+    EXPECT_DOUBLE_EQ(c["vs_exact"]["trajectory"]["first_exceeds"].get<double>(), 2.52);
     EXPECT_EQ(c["damping"]["verdict"], "normal coefficient 0.75 differs from alpha 0.8");
     EXPECT_EQ(c["damping"]["reproduces"], false);
     EXPECT_EQ(c["damping"]["tangential_contacts"], 0);
@@ -284,8 +290,8 @@ TEST(ReportsJunit, EscapesXmlText) {
 TEST(ReportsMarkdown, TableAndFailedThreshold) {
     const std::string md = to_markdown(test_report());
     EXPECT_NE(md.find("## seed-3d (3D, dt = 0.03 s, duration = 42 s)"), std::string::npos);
-    EXPECT_NE(md.find("| simulator | Δapex ref | rms ref (m) | rms exact (m) | alpha | beta | damping | thresholds | "
-                      "ns/step |"),
+    EXPECT_NE(md.find("| simulator | apex err | contact err | tracks exact | apex div | alpha | beta | damping | "
+                      "thresholds | ns/step |"),
               std::string::npos);
     EXPECT_NE(md.find("- bullet: `trajectory_rms` = 0.0123 > 0.01"), std::string::npos);
     EXPECT_NE(md.find("- bullet: normal coefficient 0.75 differs from alpha 0.8"), std::string::npos);
@@ -330,13 +336,26 @@ TEST(ReportsTerminal, Rows) {
     const std::vector<std::string> expected = {
         "",
         "seed-3d (3D, dt = 0.03 s, duration = 42 s)",
-        "  simulator Δapex ref rms ref (m) rms exact (m)   alpha    beta  damping thresholds   ns/step",
-        "  reference     0.00%           0       1.5e-06  0.8000  0.9900       ok       pass      10.0",
-        "  bullet        4.00%      0.0123        0.0125  0.7500       -  DIFFERS     FAIL 1     125.0",
+        "  simulator  apex err contact err tracks exact  apex div  alpha   beta damping thresholds ns/step",
+        "  reference     0.10%      0.03 s    whole run     0.00% 0.8000 0.9900      ok       pass    10.0",
+        "  bullet        4.10%       0.1 s       2.52 s     4.00% 0.7500      - DIFFERS     FAIL 1   125.0",
         "      trajectory_rms = 0.0123 > 0.01",
         "  ode       skipped: needs <libode> & \"double\" 'ok'",
     };
     EXPECT_EQ(lines, expected);
+}
+
+TEST(ReportsTerminal, ExactAgainstItselfRanksNothing) {
+    RunReport report = test_report();
+    SimulatorSummary exact = reference_summary();
+    exact.simulator = "exact";
+    Comparison c = reference_comparison();
+    c.vs_exact = divergence("exact", 0.0, 0.0);
+    report.scenarios[0].results = {exact};
+    report.scenarios[0].comparisons = {c};
+    const std::vector<std::string> lines = lines_of(format_comparison(report, false));
+    ASSERT_EQ(lines.size(), 4u);
+    EXPECT_EQ(lines[3], "  exact             -           -            -     0.00% 0.8000 0.9900      ok       pass    10.0");
 }
 
 TEST(ReportsGolden, Markdown) {
@@ -344,11 +363,11 @@ TEST(ReportsGolden, Markdown) {
 
 ## seed-3d (3D, dt = 0.03 s, duration = 42 s)
 
-| simulator | Δapex ref | rms ref (m) | rms exact (m) | alpha | beta | damping | thresholds | ns/step |
-| :-- | --: | --: | --: | --: | --: | :-- | :-- | --: |
-| reference | 0.00% | 0 | 1.5e-06 | 0.8000 | 0.9900 | ok | pass | 10.0 |
-| bullet | 4.00% | 0.0123 | 0.0125 | 0.7500 | - | **DIFFERS** | **FAIL 1** | 125.0 |
-| ode | skipped: needs <libode> & "double" 'ok' |  |  |  |  |  |  |  |
+| simulator | apex err | contact err | tracks exact | apex div | alpha | beta | damping | thresholds | ns/step |
+| :-- | --: | --: | --: | --: | --: | --: | :-- | :-- | --: |
+| reference | 0.10% | 0.03 s | whole run | 0.00% | 0.8000 | 0.9900 | ok | pass | 10.0 |
+| bullet | 4.10% | 0.1 s | 2.52 s | 4.00% | 0.7500 | - | **DIFFERS** | **FAIL 1** | 125.0 |
+| ode | skipped: needs <libode> & "double" 'ok' |  |  |  |  |  |  |  |  |
 
 Failures:
 

@@ -71,10 +71,6 @@ std::vector<ContactEvent> damping_contacts(const SimulatorSummary& self, const S
 
 DampingCheck check_damping(const SimulatorSummary& self, const Scenario& s, const ThresholdSet& limits);
 
-// The largest |floor-contact time - the baseline's| over the compared
-// bounces; infinite when none has both (a limit on it then fails).
-double contact_time_error_max(const Divergence& d);
-
 // The scenario's thresholds for this simulator, evaluated on its comparison.
 std::vector<ThresholdCheck> check_thresholds(const Comparison& c, const ThresholdSet& limits, const Scenario& s);
 

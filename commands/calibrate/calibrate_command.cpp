@@ -22,6 +22,7 @@ struct CalibrateOptions {
     std::string file;
     std::string engine;
     double max_mu = 1.0;
+    std::string against = "reference";
     bool write = false;
 };
 
@@ -48,16 +49,17 @@ int command_calibrate(const CalibrateOptions& opt) {
         fmt::print(stderr, "error: {}: {}\n", opt.file, *why);
         return kBadInput;
     }
-    const CalibrationResult r = calibrate_friction(s, **it, opt.max_mu);
-    fmt::print("{} on {}: objective = RMS distance of the ball centre from reference over the run\n", opt.engine,
-               s.name);
+    const CalibrationResult r = calibrate_friction(
+        s, **it, opt.max_mu, opt.against == "exact" ? CalibrationBaseline::exact : CalibrationBaseline::reference);
+    fmt::print("{} on {}: objective = RMS distance of the ball centre from {} over the run\n", opt.engine, s.name,
+               baseline_name(r.baseline));
     fmt::print("  mu = {:.6g}: divergence {:.4g} m (mu = 0: {:.4g} m; {} runs)\n", r.mu, r.divergence,
                r.divergence_at_zero, r.evaluated.size());
     if (opt.write) {
         std::ifstream in(opt.file, std::ios::binary);
         std::stringstream text;
         text << in.rdbuf();
-        write_file_atomically(opt.file, with_calibrated_friction(text.str(), opt.file, opt.engine, r.mu, r.divergence));
+        write_file_atomically(opt.file, with_calibrated_friction(text.str(), opt.file, opt.engine, r));
         fmt::print("  wrote friction = {:.6g} into [engines.{}] of {}\n", r.mu, opt.engine, opt.file);
     }
     return kOk;
@@ -74,6 +76,11 @@ Command add_calibrate_command(CLI::App& app) {
     command->add_option("--max-mu", opt->max_mu, "Upper end of the search")
         ->capture_default_str()
         ->check(CLI::Range(1e-3, 10.0));
+    command
+        ->add_option("--against", opt->against,
+                     "Baseline to come closest to: reference (the document's Euler) or exact (the law's solution)")
+        ->check(CLI::IsMember({"reference", "exact"}))
+        ->capture_default_str();
     command->add_flag("--write", opt->write, "Write the value into the file's [engines.<engine>] table");
     return {command, [opt] { return command_calibrate(*opt); }};
 }

@@ -1,5 +1,6 @@
 #include "commands/calibrate/calibrate_pipeline.h"
 
+#include "exact/exact_simulator.h"
 #include "metrics/summary.h"
 #include "reference/reference_simulator.h"
 #include "scenarios/loader.h"
@@ -30,10 +31,11 @@ class Objective {
 public:
     Objective(const Scenario& s, const Simulator& engine, CalibrationResult& out)
         : scenario_(s), engine_(engine), out_(out) {
-        const auto reference = make_reference_simulator();
+        const auto baseline = out.baseline == CalibrationBaseline::exact ? make_exact_simulator()
+                                                                          : make_reference_simulator();
         StateVector states;
-        record_run(*reference, s, &states);
-        reference_ = std::move(states.states);
+        record_run(*baseline, s, &states);
+        baseline_ = std::move(states.states);
     }
 
     double operator()(double mu) {
@@ -44,7 +46,7 @@ public:
         options.friction = mu;
         StateVector states;
         const SimulatorSummary summary = record_run(engine_, s, &states);
-        const double d = summary.status == RunStatus::ok ? rms_distance(states.states, reference_)
+        const double d = summary.status == RunStatus::ok ? rms_distance(states.states, baseline_)
                                                          : std::numeric_limits<double>::infinity();
         out_.evaluated.push_back({mu, d});
         return d;
@@ -54,14 +56,20 @@ private:
     const Scenario& scenario_;
     const Simulator& engine_;
     CalibrationResult& out_;
-    std::vector<State> reference_;
+    std::vector<State> baseline_;  // its states on the document clock
 };
 
 }  // namespace
 
-CalibrationResult calibrate_friction(const Scenario& s, const Simulator& engine, double mu_max) {
+const char* baseline_name(CalibrationBaseline b) {
+    return b == CalibrationBaseline::exact ? "exact" : "reference";
+}
+
+CalibrationResult calibrate_friction(const Scenario& s, const Simulator& engine, double mu_max,
+                                     CalibrationBaseline baseline) {
     if (auto why = engine.cannot_run(s)) throw std::runtime_error(*why);
     CalibrationResult result;
+    result.baseline = baseline;
     Objective objective(s, engine, result);
 
     // Grid: 0, then 4 points per decade from 1e-4 to mu_max.
@@ -109,10 +117,10 @@ CalibrationResult calibrate_friction(const Scenario& s, const Simulator& engine,
 }
 
 std::string with_calibrated_friction(const std::string& toml_text, const std::string& file_name,
-                                     const std::string& engine, double mu, double divergence) {
+                                     const std::string& engine, const CalibrationResult& result) {
     const std::string value_line =
-        fmt::format("friction = {:.6g}  # bouncecheck calibrate: RMS divergence {:.3g} m from reference", mu,
-                    divergence);
+        fmt::format("friction = {:.6g}  # bouncecheck calibrate: RMS distance {:.3g} m from {}", result.mu,
+                    result.divergence, baseline_name(result.baseline));
     const std::regex header("^\\s*\\[\\s*engines\\s*\\.\\s*" + engine + "\\s*\\]\\s*(#.*)?$");
     const std::regex any_header("^\\s*\\[.*$");
     const std::regex friction_key("^\\s*friction\\s*=.*$");
