@@ -9,6 +9,7 @@
 #include "tests/support/cli.h"
 #include "tests/support/engine_run.h"
 #include "tests/support/engine_tests.h"
+#include "tests/support/scenarios.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -465,6 +466,44 @@ TEST(Box2dPerContact, BetaOncePerContact) {
     // contact, or at every solver pass, would compound it).
     EXPECT_NEAR(at(4.8).v.x(), -0.8 * 0.99 * vx0, 1e-6);
     EXPECT_NEAR(at(4.8).v.x(), exact.state_at(4.8).v.x(), 1e-6);
+}
+
+}  // namespace
+}  // namespace bouncecheck
+
+namespace bouncecheck {
+namespace {
+
+// Box2D 2.4.1's testbed scene testbed/tests/restitution.cpp: radius-1 balls
+// dropped from y = 20 onto a ground edge at y = 0, gravity -10, 60 Hz,
+// restitution {0, 0.1, 0.3, 0.5, 0.75, 0.9, 1} with restitutionThreshold 10.
+// The scene asserts nothing; the rule it shows is b2_contact_solver.cpp's
+// `if (vRel < -threshold) velocityBias = -restitution * vRel`, with vRel the
+// approach speed after the step's gravity: the rebound is exactly
+// -e (v_before + g dt), in float. And, as the scene says, "even with a
+// restitution of 1.0, there is some energy change due to position correction":
+// the apex after an e = 1 bounce is not the drop height.
+TEST(Box2dOwnTests, RestitutionSceneReboundIsMinusEOfTheApproachSpeed) {
+    const double g = 10.0, dt = 1.0 / 60.0;
+    for (const double e : {0.0, 0.1, 0.3, 0.5, 0.75, 0.9, 1.0}) {
+        const Scenario sc = test::make_scenario(2, Vec3(80, 40, 0), 1.0, Vec3(40, 20, 0), Vec3::Zero(),
+                                                Vec3(0, -g, 0), e, 1.0, 4.0, dt);
+        const auto r = test::run_simulator("box2d", sc);
+        ASSERT_EQ(r.summary.status, RunStatus::ok) << r.summary.reason;
+        std::size_t k = 1;
+        while (k < r.states.size() && r.states[k].v.y() < 0 && r.states[k].v.y() <= r.states[k - 1].v.y()) ++k;
+        ASSERT_LT(k, r.states.size()) << "e = " << e << ": no bounce";
+        const double approach = r.states[k - 1].v.y() - g * dt;  // after the step's gravity, as the solver sees it
+        const double rebound = r.states[k].v.y();
+        std::printf("e = %g: approach %.7g m/s, rebound %.7g m/s, ratio %.7g\n", e, approach, rebound,
+                    -rebound / approach);
+        EXPECT_LT(approach, -10.0) << "above the scene's restitution threshold";
+        EXPECT_NEAR(rebound, -e * approach, 2e-6 * std::abs(approach)) << "e = " << e;  // float
+        if (e == 1.0) {
+            ASSERT_GE(r.summary.apexes.size(), 2u);
+            EXPECT_GT(std::abs(r.summary.apexes[1].height - 20.0), 1e-3) << r.summary.apexes[1].height;
+        }
+    }
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "tests/support/cli.h"
 #include "tests/support/engine_run.h"
 #include "tests/support/engine_tests.h"
+#include "tests/support/scenarios.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -447,6 +448,68 @@ TEST(DartCli, RunSweepStressAndCalibrate) {
     EXPECT_EQ(cal.status, 0) << cal.output;
     EXPECT_NE(cal.output.find("mu"), std::string::npos) << cal.output;
     fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace bouncecheck
+
+namespace bouncecheck {
+namespace {
+
+// DART 6.12.1's own regression test unittests/regression/test_Issue1184.cpp
+// (TEST(Issue1184, Accuracy)): a sphere of radius s dropped 1 m onto the
+// ground under -9.81 at dt = 0.001, restitution 0 (DART's default) and
+// friction 1, run until 30 times the strike time plus 0.5 s. It asserts the
+// ball reached the ground (its lowest centre height <= s + 1e-3) and rests
+// there (final centre height within 1e-3 of s), for s in {0.25, 1, 5, 10, 20}
+// (Release builds).
+//
+// At DART's own unit (length scale 1) the adapter holds both for every size.
+// At the adapter's length scale (4.4 here, set so that the seeds' slow bounces
+// clear DART's 0.1 model-units/s restitution threshold) the 0.25 m ball rests
+// 1.26 mm deep: DART corrects penetration at most DART_MAX_ERV = 1e-3 model
+// units/s, which is 1e-3 / scale m/s, so the 4.3 mm of the first impact takes
+// longer to push out. A finding, held here: the scale that lets the seeds
+// bounce slows DART's penetration recovery by the same factor.
+struct Issue1184Result {
+    double lowest = 0, final_height = 0;
+};
+Issue1184Result issue_1184_drop(double radius, const Tuning& tuning) {
+    const double g = 9.81, drop = 1.0;
+    const double strike = std::sqrt(2.0 * drop / g);
+    const double side = 2 * radius + 10;
+    Scenario sc = test::make_scenario(3, Vec3(side, side, drop + 2 * radius + 5), radius,
+                                      Vec3(side / 2, side / 2, drop + radius), Vec3::Zero(), Vec3(0, 0, -g), 0.0, 1.0,
+                                      30 * strike + 0.5, 0.001);
+    sc.engines["dart"].friction = 1.0;  // DART's default friction coefficient
+    const auto r = run_dart(sc, tuning);
+    EXPECT_EQ(r.summary.status, RunStatus::ok) << r.summary.reason;
+    Issue1184Result out{std::numeric_limits<double>::infinity(), r.states.back().p.z()};
+    for (const State& st : r.states) out.lowest = std::min(out.lowest, st.p.z());
+    std::printf("radius %g, length scale %s: lowest centre %.6g m, final %.6g m (t = %.3f s)\n", radius,
+                test::setting(r.summary, "length_scale").c_str(), out.lowest, out.final_height, r.states.back().t);
+    return out;
+}
+
+TEST(DartOwnTests, Issue1184SphereDropRestsOnTheGroundAtDartsOwnUnit) {
+    const double tolerance = 1e-3;  // the test's own
+    Tuning dart_unit;
+    dart_unit.length_scale = 1.0;
+    for (const double radius : {0.25, 1.0, 5.0, 10.0, 20.0}) {
+        const Issue1184Result r = issue_1184_drop(radius, dart_unit);
+        EXPECT_GE(radius + tolerance, r.lowest) << "radius " << radius;
+        EXPECT_NEAR(radius, r.final_height, tolerance) << "radius " << radius;
+    }
+}
+
+TEST(DartOwnTests, Issue1184AtTheAdaptersLengthScaleTheSmallBallRestsDeeper) {
+    const double radius = 0.25;
+    Tuning dart_unit;
+    dart_unit.length_scale = 1.0;
+    const Issue1184Result at_unit = issue_1184_drop(radius, dart_unit);
+    const Issue1184Result at_rule = issue_1184_drop(radius, Tuning{});
+    EXPECT_GT(radius - at_rule.final_height, 1e-3);  // beyond the test's tolerance
+    EXPECT_GT(radius - at_rule.final_height, 2 * (radius - at_unit.final_height));
 }
 
 }  // namespace
