@@ -10,6 +10,7 @@
 extern "C" {
 extern const char bouncecheck_asset_plotly_js[], bouncecheck_asset_plotly_js_end[];
 extern const char bouncecheck_asset_page_js[], bouncecheck_asset_page_js_end[];
+extern const char bouncecheck_asset_animation_js[], bouncecheck_asset_animation_js_end[];
 extern const char bouncecheck_asset_page_css[], bouncecheck_asset_page_css_end[];
 }
 
@@ -38,6 +39,9 @@ std::string script_safe_json(std::string_view json) {
 
 std::string_view plotly_js() { return span(bouncecheck_asset_plotly_js, bouncecheck_asset_plotly_js_end); }
 std::string_view page_js() { return span(bouncecheck_asset_page_js, bouncecheck_asset_page_js_end); }
+std::string_view animation_js() {
+    return span(bouncecheck_asset_animation_js, bouncecheck_asset_animation_js_end);
+}
 std::string_view page_css() { return span(bouncecheck_asset_page_css, bouncecheck_asset_page_css_end); }
 
 Page self_contained_page(std::string_view title, std::string_view data_json) {
@@ -56,8 +60,8 @@ Page self_contained_page(std::string_view title, std::string_view data_json) {
     page.tail = fmt::format(
         "\n</script>\n"
         "<script id=\"bouncecheck-data\" type=\"application/json\">{}</script>\n"
-        "</head>\n<body>\n<main id=\"page\"></main>\n<script>\n{}\n</script>\n</body>\n</html>\n",
-        script_safe_json(data_json), page_js());
+        "</head>\n<body>\n<main id=\"page\"></main>\n<script>\n{}\n{}\n</script>\n</body>\n</html>\n",
+        script_safe_json(data_json), animation_js(), page_js());
     return page;
 }
 

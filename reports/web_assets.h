@@ -11,6 +11,7 @@ namespace bouncecheck {
 
 std::string_view plotly_js();   // plotly.js-dist-min, minified
 std::string_view page_js();     // reports/html/page.js: builds every plot and table from the page's data
+std::string_view animation_js();  // reports/html/animation.js: the per-scenario animation page.js creates
 std::string_view page_css();    // reports/html/page.css
 
 // The page: title, style, the library, the data (JSON) and the page script,

@@ -40,12 +40,45 @@
     return node;
   }
 
-  // cells: strings, or {text, cls} for a coloured verdict.
+  // cells: strings, or {text, cls, href, sort} for a coloured verdict, a
+  // link, or a sort key other than the text. A click on a header sorts the
+  // rows by that column (numbers by value, "-" last), again to reverse.
   function table(headers, rows, cls) {
-    const head = el("thead", {}, el("tr", {}, headers.map((h) => el("th", {}, h))));
-    const body = el("tbody", {}, rows.map((cells) => el("tr", {}, cells.map((c) =>
-      c !== null && typeof c === "object" ? el("td", { class: c.cls || "" }, c.text) : el("td", {}, c === null ? "-" : String(c))))));
+    const cell = (c) => {
+      if (c === null || typeof c !== "object") return el("td", {}, c === null ? "-" : String(c));
+      const td = el("td", { class: c.cls || "" }, c.href ? el("a", { href: c.href }, c.text) : c.text);
+      if (c.sort !== undefined) td.dataset.sort = String(c.sort);
+      return td;
+    };
+    const body = el("tbody", {}, rows.map((cells) => el("tr", {}, cells.map(cell))));
+    const head = el("thead", {}, el("tr", {}, headers.map((h, column) => {
+      const th = el("th", { class: "sortable", title: "sort" }, h);
+      th.addEventListener("click", () => sortRows(body, column, th));
+      return th;
+    })));
     return el("table", { class: cls || "" }, [head, body]);
+  }
+
+  function sortKey(td) {
+    const text = td.dataset.sort !== undefined ? td.dataset.sort : td.textContent;
+    const value = parseFloat(text);
+    return { text: text, value: /^[-+]?[0-9.]/.test(text) && Number.isFinite(value) ? value : null };
+  }
+
+  function sortRows(body, column, th) {
+    const descending = th.dataset.order === "ascending";
+    for (const other of th.parentNode.children) delete other.dataset.order;
+    th.dataset.order = descending ? "descending" : "ascending";
+    const rows = Array.from(body.rows);
+    rows.sort((a, b) => {
+      const x = sortKey(a.cells[column] || b.cells[column]), y = sortKey(b.cells[column] || a.cells[column]);
+      if (x.value === null || y.value === null) {
+        if (x.value !== y.value) return x.value === null ? 1 : -1;  // "-" and words last
+        return (descending ? -1 : 1) * x.text.localeCompare(y.text);
+      }
+      return (descending ? -1 : 1) * (x.value - y.value);
+    });
+    for (const row of rows) body.appendChild(row);
   }
 
   function num(v, digits) {
@@ -103,7 +136,8 @@
       addPlot(grid, id, "path", "Path of the ball's centre", traces, {
         xaxis: axisTitle("x (m)", { range: [-0.02 * room[0], 1.02 * room[0]], constrain: "domain" }),
         yaxis: axisTitle("y (m)", { scaleanchor: "x", range: [-0.02 * room[1], 1.02 * room[1]] }),
-      });
+        legend: { orientation: "v", x: 1.02, y: 1 },
+      }, true);
       return;
     }
     const traces = ran.map((s) => ({ x: s.plot.path.x, y: s.plot.path.y, z: s.plot.path.z, type: "scatter3d",
@@ -115,25 +149,36 @@
         xaxis: { title: { text: "x (m)" }, range: [0, room[0]] },
         yaxis: { title: { text: "y (m)" }, range: [0, room[1]] },
         zaxis: { title: { text: "z (m)" }, range: [0, room[2]] },
-        camera: { eye: { x: 1.25, y: -1.25, z: 0.7 } },
+        // Far enough out that the floor and the axis titles stay in the frame.
+        camera: { eye: { x: 1.5, y: -1.5, z: 0.95 }, center: { x: 0, y: 0, z: -0.1 } },
+        domain: { x: [0, 0.85], y: [0, 1] },
       },
-      margin: { l: 0, r: 0, t: 40, b: 0 },
+      legend: { orientation: "v", x: 0.86, y: 1 },
+      margin: { l: 10, r: 10, t: 40, b: 10 },
     }, true);
   }
 
+  // Contacts are drawn up to the simulator's rest; after it a resting ball
+  // touches the floor at almost every step, so those are counted instead.
   function heightPlot(grid, id, vertical, ran) {
-    const traces = [];
+    const traces = [], after = [];
     for (const s of ran) {
+      const rest = s.result.rest_time;
+      const c = s.plot.contacts;
+      const before = c.t.map((ct, i) => i).filter((i) => rest === null || rest === undefined || c.t[i] < rest);
+      const later = c.t.length - before.length;
+      if (later > 0) after.push(s.name + ": " + later + (c.t.length >= 500 ? "+" : "") + " after rest at t = " + num(rest, 4) + " s");
       traces.push({ x: s.plot.path.t, y: s.plot.path[AXES[vertical]], mode: "lines", name: s.name, legendgroup: s.name,
                     line: { color: colour(s.name), width: 1.5 } });
-      traces.push({ x: s.plot.contacts.t, y: s.plot.contacts.height, text: s.plot.contacts.wall, mode: "markers",
-                    name: s.name + " contacts", legendgroup: s.name, showlegend: false,
+      traces.push({ x: before.map((i) => c.t[i]), y: before.map((i) => c.height[i]), text: before.map((i) => c.wall[i]),
+                    mode: "markers", name: s.name + " contacts", legendgroup: s.name, showlegend: false,
                     marker: { color: colour(s.name), size: 6, symbol: "circle-open" },
                     hovertemplate: "%{text} wall at t = %{x:.4f} s<extra>" + s.name + "</extra>" });
     }
-    addPlot(grid, id, "height", "Vertical coordinate against time (circles: contacts)", traces, {
+    addPlot(grid, id, "height", "Vertical coordinate against time (circles: contacts before rest)", traces, {
       xaxis: axisTitle("t (s)"), yaxis: axisTitle(AXES[vertical] + " of the centre (m)"),
     }, true);
+    if (after.length) grid.appendChild(el("p", { class: "note wide-note" }, "Contacts not drawn: " + after.join("; ") + "."));
   }
 
   function apexPlot(grid, id, plots, ran) {
@@ -157,12 +202,20 @@
     });
   }
 
-  function distancePlot(grid, id, kind, title, ran, skip, field) {
+  // The baseline's rest is marked: after it the distance measures how the
+  // ball slides or rolls on the floor, not how it bounces, and it jumps.
+  function distancePlot(grid, id, kind, title, ran, skip, field, baselineRest) {
     const traces = ran.filter((s) => s.name !== skip).map((s) => ({
       x: s.plot[field].t, y: positive(s.plot[field].d), mode: "lines", name: s.name,
       line: { color: colour(s.name), width: 1.5 } }));
+    const rest = baselineRest === null || baselineRest === undefined ? [] : [baselineRest];
     addPlot(grid, id, kind, title, traces, {
       xaxis: axisTitle("t (s)"), yaxis: axisTitle("centre distance (m)", { type: "log", exponentformat: "power" }),
+      shapes: rest.map((x) => ({ type: "line", xref: "x", yref: "paper", x0: x, x1: x, y0: 0, y1: 1,
+                                 line: { color: "#555", dash: "dot", width: 1 } })),
+      annotations: rest.map((x) => ({ x: x, xref: "x", y: 1, yref: "paper", xanchor: "left", yanchor: "top",
+                                      showarrow: false, font: { size: 11, color: "#555" },
+                                      text: " " + skip + " at rest: after this, sliding, not bouncing" })),
     });
   }
 
@@ -178,38 +231,90 @@
 
   // ------------------------------------------------------------ run report
 
+  const EXACT = "exact", REFERENCE = "reference";
+  const scenarioLink = (index) => "#scenario-" + index;
+
+  // What the thresholds say: which failed and by how much, not a count alone.
   function verdict(result) {
     if (result.status === "skipped") return { text: "skipped", cls: "skip" };
     if (result.status === "failed") return { text: "failed", cls: "fail" };
     const c = result.comparison;
     if (!c) return { text: "ok", cls: "" };
-    const failed = c.thresholds.filter((t) => !t.passed).length;
-    if (c.thresholds.length === 0) return { text: "no threshold set", cls: "" };
-    return failed ? { text: failed + " of " + c.thresholds.length + " exceeded", cls: "fail" }
-                  : { text: "all " + c.thresholds.length + " held", cls: "pass" };
+    if (c.thresholds.length === 0) return { text: "none set", cls: "" };
+    const failed = c.thresholds.filter((t) => !t.passed);
+    return failed.length
+      ? { text: failed.map((t) => t.metric + " " + num(t.measured, 3) + " > " + num(t.limit, 3)).join("; "), cls: "fail" }
+      : { text: "all " + c.thresholds.length + " held", cls: "pass" };
   }
 
-  function overviewRow(scenarioName, r) {
+  // The figures that rank a simulator against exact and the reference, as
+  // the terminal's table; null where there is nothing to rank (exact against itself).
+  function rankingFigures(r) {
     const c = r.comparison;
-    const damping = !c ? "-" : { text: c.damping.verdict, cls: c.damping.reproduces ? "pass" : "warn" };
+    if (!c || r.status !== "ok") return null;
+    const own = r.simulator === c.vs_exact.baseline;
+    const e = c.vs_exact;
+    return {
+      apexError: own || !e.bounces.length ? null : e.bounce_height_rel_max,
+      contactError: own ? null : e.contact_time_max,
+      // Never leaving the band ranks above any time.
+      tracks: own || !e.trajectory.samples ? null
+        : e.trajectory.first_exceeds === null ? Infinity : e.trajectory.first_exceeds,
+      apexDivergence: r.simulator === REFERENCE || !c.vs_reference.bounces.length ? null : c.vs_reference.bounce_height_rel_max,
+    };
+  }
+
+  function tracksText(v) { return v === null ? "-" : v === Infinity ? "whole run" : num(v, 3) + " s"; }
+
+  function overviewRow(scenarioName, index, r) {
+    const c = r.comparison, f = rankingFigures(r);
+    const damping = !c ? "-" : c.damping.reproduces ? { text: "ok", cls: "pass" } : { text: c.damping.verdict, cls: "warn" };
+    const cell = (v, text) => (v === null || v === undefined ? "-" : { text: text, sort: v === Infinity ? 1e300 : v });
     return [
-      scenarioName, r.simulator,
+      { text: scenarioName, href: scenarioLink(index) }, r.simulator,
       r.status !== "ok" ? { text: r.status + (r.reason ? ": " + r.reason : ""), cls: r.status === "failed" ? "fail" : "skip" }
         : r.filled_from === null || r.filled_from === undefined ? "ok"
         : "ok; states repeat from t = " + num(r.filled_from, 4) + " s (the last " + r.fill_steps + " filled, not computed)",
-      // Against exact first (exact against itself ranks nothing), as the terminal's table.
-      ...(!c || r.simulator === c.vs_exact.baseline ? ["-", "-", "-", "-"] : [
-        c.vs_exact.bounces.length ? percent(c.vs_exact.bounce_height_rel_max) : "-",
-        c.vs_exact.contact_time_max === null ? "-" : num(c.vs_exact.contact_time_max, 3),
-        !c.vs_exact.trajectory.samples ? "-"
-          : c.vs_exact.trajectory.first_exceeds === null ? "whole run" : num(c.vs_exact.trajectory.first_exceeds, 3),
-        c.vs_exact.trajectory.samples ? num(c.vs_exact.trajectory.rms_before_rest, 3) : "-"]),
+      f ? cell(f.apexError, percent(f.apexError)) : "-",
+      f ? cell(f.contactError, num(f.contactError, 3)) : "-",
+      f ? cell(f.tracks, tracksText(f.tracks)) : "-",
+      c && f && f.tracks !== null ? num(c.vs_exact.trajectory.rms_before_rest, 3) : "-",
       c && c.vs_reference.bounces.length ? percent(c.vs_reference.bounce_height_rel_max) : "-",
       c && c.vs_reference.trajectory.samples ? num(c.vs_reference.trajectory.rms_before_rest, 3) : "-",
       c && c.damping.contacts ? num(c.damping.normal_mean, 4) : "-",
       c && c.damping.tangential_contacts ? num(c.damping.tangential_mean, 4) : "-",
       damping, verdict(r),
     ];
+  }
+
+  // The best simulator on one figure: the smallest value (largest with
+  // `larger`), ties listed together.
+  function leader(results, figure, larger, format) {
+    const scored = results.map((r) => ({ name: r.simulator, f: rankingFigures(r) }))
+      .filter((x) => x.f && x.f[figure] !== null && x.f[figure] !== undefined);
+    if (!scored.length) return "-";
+    const value = (x) => x.f[figure];
+    const best = scored.reduce((a, b) => ((larger ? value(b) > value(a) : value(b) < value(a)) ? b : a));
+    const tied = scored.filter((x) => value(x) === value(best)).map((x) => x.name);
+    return tied.join(", ") + " (" + format(value(best)) + ")";
+  }
+
+  // The ranking per scenario, first on the page: who is closest to exact on
+  // each figure that ranks (bounce heights, contact times, how long it tracks),
+  // and who is closest to the reference.
+  function rankingTable(report) {
+    const rows = report.scenarios.map((entry, index) => {
+      const engines = entry.simulators.filter((r) => r.simulator !== REFERENCE && r.simulator !== EXACT);
+      return [
+        { text: entry.scenario.name, href: scenarioLink(index) },
+        leader(engines, "apexError", false, percent),
+        leader(engines, "contactError", false, (v) => num(v, 3) + " s"),
+        leader(engines, "tracks", true, tracksText),
+        leader(engines.concat(entry.simulators.filter((r) => r.simulator === EXACT)), "apexDivergence", false, percent),
+      ];
+    });
+    return table(["scenario", "closest to exact: apex heights", "closest to exact: contact times",
+                  "tracks exact longest", "closest to the reference: apex heights"], rows, "ranking");
   }
 
   // The distance within which a simulator "tracks" exact, as the report's comparisons measured it.
@@ -232,28 +337,64 @@
       el("span", { class: "badge " + overall.cls, id: "overall" }, overall.text), " ",
       report.scenarios.length + " scenario(s), bouncecheck " + report.bouncecheck_version +
       ". Divergence is measured against the reference (the document's model, bit for bit), error against exact (its continuous-time solution)."]));
-    const rows = report.scenarios.flatMap((s) => s.simulators.map((r) => overviewRow(s.scenario.name, r)));
-    page.appendChild(table(["scenario", "simulator", "status", "Δ apex vs exact", "contact time error (s)",
-                            "tracks exact for (s)", "RMS vs exact before rest (m)", "Δ apex vs reference",
-                            "RMS vs reference before rest (m)", "measured alpha", "measured beta", "damping",
-                            "thresholds"], rows, "overview"));
+
+    page.appendChild(el("h2", { id: "ranking" }, "Ranking"));
+    page.appendChild(rankingTable(report));
     page.appendChild(el("p", { class: "note" },
-      "Error is against exact, over the bounces compared (bounce_count): the largest relative apex-height error, the " +
-      "largest floor-contact time error, and how long the ball stays within " + trackingTolerance(results) + " m of exact. RMS is " +
-      "taken before the baseline's rest: after it, sliding dominates a whole-run RMS (report.json has both)."));
+      "Engines only (the reference and exact are the baselines). Apex heights: the largest relative error over the " +
+      "compared bounces; contact times: the largest floor-contact time error; tracking: how long the ball stays within " +
+      trackingTolerance(results) + " m of exact."));
+
+    page.appendChild(el("h2", { id: "contents" }, "Contents"));
+    page.appendChild(el("ol", { class: "contents" }, report.scenarios.map((entry, index) => {
+      const bad = entry.simulators.filter((r) => r.status === "failed" || (r.comparison && !r.comparison.passed)).length;
+      return el("li", {}, [el("a", { href: scenarioLink(index) }, entry.scenario.name),
+        " — " + entry.simulators.filter((r) => r.status !== "skipped").length + " ran" + (bad ? ", " + bad + " failed or exceeded" : "")]);
+    })));
+
+    const rows = report.scenarios.flatMap((s, index) => s.simulators.map((r) => overviewRow(s.scenario.name, index, r)));
+    const overview = el("details", { open: "" }, [el("summary", {}, "Every simulator on every scenario (" + rows.length +
+      " rows; click a header to sort)"),
+      table(["scenario", "simulator", "status", "Δ apex vs exact", "contact time error (s)",
+             "tracks exact for", "RMS vs exact before rest (m)", "Δ apex vs reference",
+             "RMS vs reference before rest (m)", "measured alpha", "measured beta", "damping",
+             "thresholds"], rows, "overview")]);
+    page.appendChild(overview);
+    page.appendChild(el("p", { class: "note" },
+      "RMS is taken before the baseline's rest: after it, sliding dominates a whole-run RMS (report.json has both). " +
+      "Damping: ok when the measured coefficients follow the law, else what differs and by how much."));
 
     report.scenarios.forEach((entry, index) => renderScenario(entry, data.plots[index], index));
+  }
+
+  window.bouncecheckAnimations = [];
+
+  // The animation of a scenario: every simulator that ran to the end (a
+  // failed or skipped one shows no ball; its reason is listed beside).
+  function animation(section, entry, plots, index) {
+    const balls = [], absent = [];
+    entry.simulators.forEach((r, i) => {
+      const plot = plots && plots.simulators[i];
+      if (r.status === "ok" && plot && plot.path.t.length)
+        balls.push({ name: r.simulator, colour: colour(r.simulator), path: plot.path, contacts: plot.contacts });
+      else absent.push({ name: r.simulator, reason: r.status + (r.reason ? ": " + r.reason : "") });
+    });
+    const box = el("div", { class: "animation", id: "animation-" + index });
+    section.appendChild(box);
+    window.bouncecheckAnimations[index] =
+      BouncecheckAnimation.create(box, { scenario: entry.scenario, balls: balls, absent: absent });
   }
 
   function renderScenario(entry, plots, index) {
     const s = entry.scenario;
     const section = el("section", { class: "scenario", id: "scenario-" + index });
     page.appendChild(section);
-    section.appendChild(el("h2", {}, s.name));
+    section.appendChild(el("h2", {}, [s.name + " ", el("a", { href: "#contents", class: "up" }, "↑ contents")]));
     section.appendChild(el("p", { class: "params" },
       s.dim + "D, room " + vec(s.room) + " m, radius " + num(s.radius) + " m, start " + vec(s.position) +
       " m, velocity " + vec(s.velocity) + " m/s, gravity " + vec(s.gravity) + " m/s², alpha " + s.alpha +
       ", beta " + s.beta + ", dt " + s.dt + " s, duration " + s.duration + " s (" + s.file + ")"));
+    if (plots) animation(section, entry, plots, index);
 
     // Simulators that ran (ok or failed) and have a recorded plot, in the report's order.
     const ran = [];
@@ -261,6 +402,7 @@
       const plot = plots && plots.simulators[i];
       if (r.status !== "skipped" && plot) ran.push({ name: r.simulator, result: r, plot: plot });
     });
+    const restOf = (name) => { const r = entry.simulators.find((x) => x.simulator === name); return r ? r.rest_time : null; };
     const grid = el("div", { class: "grid" });
     section.appendChild(grid);
     const id = (kind) => "plot-" + index + "-" + kind;
@@ -268,19 +410,26 @@
       pathPlot(grid, id("path"), s, ran);
       apexPlot(grid, id("apex"), plots, ran);
       heightPlot(grid, id("height"), plots.vertical, ran);
-      distancePlot(grid, id("divergence"), "divergence", "Divergence from the reference (largest per window)", ran, "reference", "divergence");
-      distancePlot(grid, id("error"), "error", "Error against exact (largest per window)", ran, "exact", "error");
+      distancePlot(grid, id("divergence"), "divergence", "Divergence from the reference (largest per window)", ran, REFERENCE, "divergence", restOf(REFERENCE));
+      distancePlot(grid, id("error"), "error", "Error against exact (largest per window)", ran, EXACT, "error", restOf(EXACT));
       dampingPlot(grid, id("normal"), "normal", "Normal coefficient per contact", s, ran, "normal", "alpha", s.alpha);
       dampingPlot(grid, id("tangential"), "tangential", "Tangential retention per contact", s, ran, "tangential", "beta", s.beta);
       section.appendChild(el("p", { class: "note" },
         "Contacts measured for damping: before the simulator's rest and faster than 30 |g| dt, as the damping verdict counts them."));
     }
 
-    const checks = entry.simulators.flatMap((r) => (r.comparison ? r.comparison.thresholds : []).map((t) => [
-      r.simulator, t.metric, num(t.measured, 4), num(t.limit, 4), t.passed ? { text: "held", cls: "pass" } : { text: "exceeded", cls: "fail" }]));
+    const checks = entry.simulators.flatMap((r) => (r.comparison ? r.comparison.thresholds : []).map((t) => ({ r: r, t: t })));
+    const exceeded = checks.filter((x) => !x.t.passed);
+    const row = (x) => [x.r.simulator, x.t.metric, num(x.t.measured, 4), num(x.t.limit, 4),
+                        x.t.passed ? { text: "held", cls: "pass" } : { text: "exceeded", cls: "fail" }];
     section.appendChild(el("h3", {}, "Threshold verdicts"));
-    section.appendChild(checks.length ? table(["simulator", "metric", "measured", "limit", "verdict"], checks)
-                                      : el("p", {}, "No threshold is set for this scenario."));
+    if (!checks.length) section.appendChild(el("p", {}, "No threshold is set for this scenario."));
+    else {
+      if (exceeded.length) section.appendChild(table(["simulator", "metric", "measured", "limit", "verdict"], exceeded.map(row)));
+      section.appendChild(el("details", {}, [
+        el("summary", {}, checks.length - exceeded.length + " of " + checks.length + " held: show every check"),
+        table(["simulator", "metric", "measured", "limit", "verdict"], checks.map(row))]));
+    }
 
     const notRun = entry.simulators.filter((r) => r.status !== "ok");
     if (notRun.length) {
@@ -311,23 +460,42 @@
     const byEngine = {};
     for (const row of sweep.rows) (byEngine[row.engine] = byEngine[row.engine] || []).push(row);
     const usable = (r) => r.status === "ok" && r.error > 0 && r.sec_per_sim_sec > 0;
+    // Errors at round-off (an event-driven scheme's, about 1e-13 m) would set
+    // the scale and squash every engine into one band: the axis starts a
+    // factor 3 below the smallest error above kRoundOff, and smaller errors
+    // are drawn on that edge as down-pointing triangles, their value in the hover.
+    const kRoundOff = 1e-10;
+    const above = sweep.rows.filter(usable).map((r) => r.error).filter((e) => e >= kRoundOff);
+    const floor = above.length ? Math.min(...above) / 3 : null;
+    const shown = (e) => (floor !== null && e < floor ? floor : e);
+    const clipped = (e) => floor !== null && e < floor;
     const traces = Object.entries(byEngine).map(([name, rows]) => {
       const ok = rows.filter(usable);
-      return { x: ok.map((r) => r.sec_per_sim_sec), y: ok.map((r) => r.error), text: ok.map((r) => "dt = " + r.dt),
+      return { x: ok.map((r) => r.sec_per_sim_sec), y: ok.map((r) => shown(r.error)),
+               customdata: ok.map((r) => r.error),
+               text: ok.map((r) => "dt = " + r.dt + (clipped(r.error) ? " (round-off: below the axis)" : "")),
                mode: "lines+markers", name: name, line: { color: colour(name) },
-               hovertemplate: "%{text}<br>cost %{x:.3g} s/s<br>error %{y:.3g} m<extra>" + name + "</extra>" };
+               marker: { symbol: ok.map((r) => (clipped(r.error) ? "triangle-down" : "circle")), size: 8 },
+               hovertemplate: "%{text}<br>cost %{x:.3g} s/s<br>error %{customdata:.3g} m<extra>" + name + "</extra>" };
     });
     const front = sweep.rows.filter((r) => r.pareto).sort((a, b) => a.sec_per_sim_sec - b.sec_per_sim_sec);
-    traces.push({ x: front.map((r) => r.sec_per_sim_sec), y: front.map((r) => r.error),
+    traces.push({ x: front.map((r) => r.sec_per_sim_sec), y: front.map((r) => shown(r.error)),
                   text: front.map((r) => r.engine + ", dt = " + r.dt), mode: "lines+markers", name: "Pareto front",
                   line: { color: "#000", dash: "dot", width: 1 }, marker: { symbol: "circle-open", size: 16, color: "#000" },
                   hovertemplate: "%{text}<extra>Pareto front</extra>" });
+    const errorsShown = sweep.rows.filter(usable).map((r) => shown(r.error));
+    const yRange = floor === null || !errorsShown.length ? undefined
+      : [Math.log10(floor), Math.log10(Math.max(...errorsShown)) + 0.15];
     const grid = el("div", { class: "grid" });
     page.appendChild(grid);
     addPlot(grid, "plot-sweep-work-precision", "work-precision", "Work-precision: error against cost", traces, {
       xaxis: axisTitle("cost (s of run time per simulated s)", { type: "log", exponentformat: "power" }),
-      yaxis: axisTitle("error against exact (m)", { type: "log", exponentformat: "power" }),
+      yaxis: axisTitle("error against exact (m)", Object.assign({ type: "log", exponentformat: "power" },
+                                                               yRange ? { range: yRange } : {})),
     }, true);
+    if (errorsShown.some((e, i) => e !== sweep.rows.filter(usable)[i].error))
+      page.appendChild(el("p", { class: "note" }, "Triangles on the lower edge: errors below " + num(floor, 2) +
+        " m, at round-off (hover for the value); the axis leaves them out so the engines can be told apart."));
     page.appendChild(el("h3", {}, "Observed convergence orders"));
     page.appendChild(table(["simulator", "fitted order", "dts in the fit"],
       sweep.orders.map((o) => [o.engine, o.order === null ? "-" : num(o.order, 3), String(o.points)])));
