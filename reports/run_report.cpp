@@ -2,6 +2,7 @@
 
 #include "platform/atomic_file.h"
 #include "reports/json_number.h"
+#include "verdicts/ranking.h"
 
 #include <fmt/format.h>
 
@@ -196,8 +197,10 @@ struct Row {
     // contact times, how long the path stays within the tracking tolerance),
     // where a whole-run RMS is dominated by one shifted event or by sliding
     // after rest. Then the divergence from the reference.
-    std::string apex_exact = "-", contact_exact = "-", tracks_exact = "-", apex_ref = "-", alpha = "-", beta = "-";
-    std::string damping = "-", thresholds = "-", ns_per_step = "-";
+    std::string apex_exact = "-", contact_exact = "-", rms_before_rest = "-", tracks_exact = "-", apex_ref = "-";
+    std::string alpha = "-", beta = "-", damping = "-", thresholds = "-";
+    // The summary's cells: what the simulator did, and what it cost.
+    std::string steps, contacts, apexes, rest = "-", run_time = "-", ns_per_step = "-";
     bool damping_ok = true, thresholds_ok = true;
     std::vector<const ThresholdCheck*> failed;
     const Comparison* comparison = nullptr;
@@ -210,6 +213,12 @@ std::string percent(double ratio) {
 }
 
 std::string seconds(double s) { return fmt::format("{:.3g} s", s); }
+
+// A distance in 9 characters at most: 3 significant digits, 2 when its exponent needs the room.
+std::string metres(double m) {
+    std::string text = fmt::format("{:.3g} m", m);
+    return text.size() <= 9 ? text : fmt::format("{:.2g} m", m);
+}
 
 // Measured and limit of a threshold: 6 significant digits, or all of them
 // when 6 would print a failed measurement equal to its limit.
@@ -229,19 +238,27 @@ Row make_row(const ScenarioRun& run, std::size_t i) {
     row.status = r.status;
     row.reason = r.reason;
     if (r.status == RunStatus::skipped) return row;
+    row.steps = fmt::format("{}", r.steps);
+    row.contacts = fmt::format("{}{}", r.contacts, r.contacts_unbounded ? "+inf" : "");
+    for (std::size_t k = 0; k < r.apexes.size() && k < 4; ++k)
+        row.apexes += fmt::format("{}{:.4f}", k ? " " : "", r.apexes[k].height);
+    if (r.rest_time) row.rest = fmt::format("{:.2f}", *r.rest_time);
+    if (std::isfinite(r.run_seconds)) row.run_time = fmt::format("{:.3f}ms", r.run_seconds * 1e3);
     if (r.steps > 0 && std::isfinite(r.run_seconds)) {
         const double ns = r.run_seconds * 1e9 / static_cast<double>(r.steps);
         row.ns_per_step = std::abs(ns) < 1e6 ? fmt::format("{:.1f}", ns) : fmt::format("{:.3g}", ns);
     }
     const Comparison* c = comparison_of(run, i);
     row.comparison = c;
-    if (!c) return row;
+    if (!c || r.status == RunStatus::failed) return row;  // a failed run's figures rank nothing
     const bool is_exact = r.simulator == c->vs_exact.baseline;  // exact against itself ranks nothing
     if (!is_exact && !c->vs_exact.bounces.empty()) row.apex_exact = percent(c->vs_exact.bounce_height_rel_max);
     if (!is_exact && c->vs_exact.contact_time_max) row.contact_exact = seconds(*c->vs_exact.contact_time_max);
-    if (!is_exact && c->vs_exact.trajectory.samples > 0)
+    if (!is_exact && c->vs_exact.trajectory.samples > 0) {
+        row.rms_before_rest = metres(c->vs_exact.trajectory.rms_before_rest);
         row.tracks_exact = c->vs_exact.trajectory.first_exceeds ? seconds(*c->vs_exact.trajectory.first_exceeds)
                                                                  : std::string("whole run");
+    }
     if (!c->vs_reference.bounces.empty()) row.apex_ref = percent(c->vs_reference.bounce_height_rel_max);
     if (c->damping.contacts > 0) row.alpha = fmt::format("{:.4f}", c->damping.normal_mean);
     if (c->damping.tangential_contacts > 0) row.beta = fmt::format("{:.4f}", c->damping.tangential_mean);
@@ -354,8 +371,35 @@ std::string heading(const Scenario& s) {
     return fmt::format("{} ({}D, dt = {:g} s, duration = {:g} s)", s.name, s.dim, s.dt, s.duration);
 }
 
-const char* const kColumns[] = {"simulator", "apex err", "contact err", "tracks exact", "apex div", "alpha",
-                                "beta",      "damping",  "thresholds",  "ns/step"};
+// The summary table: what each simulator did and what it cost.
+const char* const kSummaryColumns[] = {"simulator", "steps",    "contacts", "first apex heights (m)",
+                                       "rest (s)",  "run time", "ns/step"};
+// The comparison table: how far each is from exact and the reference, and the verdicts.
+const char* const kColumns[] = {"simulator", "apex err", "contact err", "rms<rest", "tracks exact", "apex div",
+                                "alpha",     "beta",     "damping",     "thresholds"};
+
+// "NAME (value)", ties joined: the leader of one ranked figure.
+std::string leader_text(const Leader& l, const std::string& value) {
+    return fmt::format("{} ({})", fmt::join(l.simulators, ", "), value);
+}
+
+// Which engine is closest to exact and which to the reference (verdicts/ranking.h); empty with no engine.
+std::string ranking_text(const ScenarioRanking& ranking) {
+    std::vector<std::string> exact;
+    if (ranking.apex_error) exact.push_back("apex heights " + leader_text(*ranking.apex_error, percent(ranking.apex_error->value)));
+    if (ranking.contact_error)
+        exact.push_back("contact times " + leader_text(*ranking.contact_error, seconds(ranking.contact_error->value)));
+    if (ranking.tracks_exact)
+        exact.push_back("tracks longest " + leader_text(*ranking.tracks_exact, ranking.tracks_exact->whole_run
+                                                                                  ? std::string("whole run")
+                                                                                  : seconds(ranking.tracks_exact->value)));
+    std::string text;
+    if (!exact.empty()) text = fmt::format("closest to exact: {}", fmt::join(exact, ", "));
+    if (ranking.apex_divergence)
+        text += fmt::format("{}closest to the reference: {}", text.empty() ? "" : "; ",
+                            leader_text(*ranking.apex_divergence, percent(ranking.apex_divergence->value)));
+    return text;
+}
 
 // ---------------------------------------------------------------- Markdown, XML, CSV text
 
@@ -403,13 +447,34 @@ std::string xml_escape(std::string_view s) {
     return out;
 }
 
+namespace {
+
+// One ranked figure's leader, or null where no engine has the figure.
+nlohmann::json leader_json(const std::optional<Leader>& l) {
+    if (!l) return nullptr;
+    nlohmann::json j = {{"simulators", l->simulators}, {"value", json_number(l->value)}};
+    if (l->whole_run) j["value"] = nullptr;  // tracked exact over the whole run
+    return j;
+}
+
+nlohmann::json ranking_json(const ScenarioRanking& r) {
+    return {{"apex_error", leader_json(r.apex_error)},
+            {"contact_error", leader_json(r.contact_error)},
+            {"tracks_exact", leader_json(r.tracks_exact)},
+            {"apex_divergence", leader_json(r.apex_divergence)}};
+}
+
+}  // namespace
+
 nlohmann::json to_json(const RunReport& report) {
     nlohmann::json scenarios = nlohmann::json::array();
     for (const ScenarioRun& run : report.scenarios) {
         nlohmann::json results = nlohmann::json::array();
         for (std::size_t i = 0; i < run.results.size(); ++i)
             results.push_back(result_json(run.results[i], comparison_of(run, i), run.scenario.dim));
-        scenarios.push_back({{"scenario", scenario_json(run.scenario)}, {"simulators", results}});
+        scenarios.push_back({{"scenario", scenario_json(run.scenario)},
+                             {"simulators", results},
+                             {"ranking", ranking_json(rank_simulators(run.results, run.comparisons))}});
     }
     return {{"schema", kReportSchema},
             {"bouncecheck_version", BOUNCECHECK_VERSION},
@@ -417,107 +482,190 @@ nlohmann::json to_json(const RunReport& report) {
             {"scenarios", scenarios}};
 }
 
-std::string format_summary(const RunReport& report) {
-    std::string text;
-    auto out = std::back_inserter(text);
-    for (const ScenarioRun& run : report.scenarios) {
-        const Scenario& s = run.scenario;
-        fmt::format_to(out, "\n{} ({}D, dt = {:g} s, duration = {:g} s)\n", s.name, s.dim, s.dt, s.duration);
-        fmt::format_to(out, "  {:<10} {:>9} {:>9}  {:<31} {:>8} {:>10}\n", "simulator", "steps", "contacts",
-                       "first apex heights (m)", "rest (s)", "run time");
-        for (const SimulatorSummary& r : run.results) {
-            if (r.status == RunStatus::skipped) {
-                fmt::format_to(out, "  {:<10} skipped: {}\n", r.simulator, r.reason);
-                continue;
-            }
-            if (!r.origin.empty()) fmt::format_to(out, "  {} ({})\n", r.simulator, r.origin);
-            std::string apexes;
-            for (std::size_t i = 0; i < r.apexes.size() && i < 4; ++i)
-                apexes += fmt::format("{}{:.4f}", i ? " " : "", r.apexes[i].height);
-            const std::string contacts =
-                fmt::format("{}{}", r.contacts, r.contacts_unbounded ? "+inf" : "");
-            const std::string rest = r.rest_time ? fmt::format("{:.2f}", *r.rest_time) : "-";
-            const std::string run_time =
-                std::isfinite(r.run_seconds) ? fmt::format("{:.3f}ms", r.run_seconds * 1e3) : std::string("-");
-            fmt::format_to(out, "  {:<10} {:>9} {:>9}  {:<31} {:>8} {:>10}\n", r.simulator, r.steps, contacts,
-                           apexes, rest, run_time);
-            if (r.status == RunStatus::failed) fmt::format_to(out, "  {:<10} FAILED: {}\n", "", r.reason);
-            if (r.filled_from)
-                fmt::format_to(out, "  {:<10} states repeat from t = {:.6g} s (every {} step{}): the last {} filled, not computed\n",
-                               "", *r.filled_from, r.fill_period, r.fill_period == 1 ? "" : "s", r.fill_steps);
-        }
-    }
-    return text;
+namespace {
+
+// Width of the name column: the longest name, within [9, 12].
+std::size_t name_width_of(const ScenarioRun& run) {
+    std::size_t width = 9;
+    for (const SimulatorSummary& r : run.results) width = std::max(width, visible_width(r.simulator));
+    return std::min<std::size_t>(width, 12);
 }
 
-std::string format_comparison(const RunReport& report, bool colour) {
-    // Column widths: 2 + name (at most 12) + 9 columns with their spaces = at most 100.
-    static constexpr std::size_t kWidths[] = {0, 9, 11, 12, 9, 6, 6, 7, 10, 7};
-    std::string text;
-    for (const ScenarioRun& run : report.scenarios) {
-        std::size_t name_width = 9;
-        for (const SimulatorSummary& r : run.results)
-            name_width = std::max(name_width, visible_width(r.simulator));
-        name_width = std::min<std::size_t>(name_width, 12);
+// A table's header: the name column left-aligned, the others right-aligned at `widths`.
+template <std::size_t N>
+std::string header_line(const char* const (&columns)[N], const std::size_t (&widths)[N], std::size_t name_width) {
+    std::string header = "  " + pad(columns[0], name_width, false);
+    for (std::size_t c = 1; c < N; ++c) header += " " + pad(columns[c], widths[c], true);
+    return header + '\n';
+}
 
+// One scenario's block: its heading, the summary, the comparison, and the ranking line.
+std::string format_scenario(const ScenarioRun& run, bool colour) {
+    // Summary: steps, contacts, first apex heights (left-aligned, 31), rest, run time, ns/step.
+    static constexpr std::size_t kSummaryWidths[] = {0, 9, 9, 31, 8, 10, 9};
+    // Comparison: at most 100 columns (names cut at 12 characters).
+    static constexpr std::size_t kWidths[] = {0, 8, 11, 9, 12, 8, 6, 6, 7, 10};
+    const std::size_t name_width = name_width_of(run);
+    const std::size_t indent = name_width + 3;  // where a row's first cell starts
+    std::string text = "\n";
+    for (const std::string& line : wrap("", heading(run.scenario), 2)) text += line + '\n';
+
+    // `what` after the row's name, wrapped at kWidth and painted.
+    auto message = [&](std::string& out, const std::string& name, const std::string& what, const char* paint_colour) {
+        const std::vector<std::string> lines = wrap(name, what, indent);
+        for (std::size_t l = 0; l < lines.size(); ++l) {
+            const std::size_t prefix = l == 0 ? name.size() : indent;
+            out += lines[l].substr(0, prefix) + paint(lines[l].substr(prefix), paint_colour, colour) + '\n';
+        }
+    };
+    std::vector<Row> rows;
+    for (std::size_t i = 0; i < run.results.size(); ++i) rows.push_back(make_row(run, i));
+    auto name_cell = [&](const Row& row) { return "  " + pad(truncate(row.simulator, name_width), name_width, false) + ' '; };
+
+    std::string header = "  " + pad(kSummaryColumns[0], name_width, false);
+    for (std::size_t c = 1; c < std::size(kSummaryColumns); ++c)
+        header += c == 3 ? "  " + pad(kSummaryColumns[c], kSummaryWidths[c], false)
+                         : " " + pad(kSummaryColumns[c], kSummaryWidths[c], true);
+    text += header + '\n';
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const Row& row = rows[i];
+        const SimulatorSummary& r = run.results[i];
+        if (!r.origin.empty()) message(text, "  ", fmt::format("{} ({})", row.simulator, r.origin), nullptr);
+        if (row.status == RunStatus::skipped) {
+            message(text, name_cell(row), "skipped: " + row.reason, kYellow);
+            continue;
+        }
+        if (row.status == RunStatus::failed) {  // its partial figures are in report.json
+            message(text, name_cell(row), "FAILED: " + row.reason, kRed);
+            continue;
+        }
+        text += name_cell(row) + pad(row.steps, kSummaryWidths[1], true) + ' ' +
+                pad(row.contacts, kSummaryWidths[2], true) + "  " + pad(row.apexes, kSummaryWidths[3], false) + ' ' +
+                pad(row.rest, kSummaryWidths[4], true) + ' ' + pad(row.run_time, kSummaryWidths[5], true) + ' ' +
+                pad(row.ns_per_step, kSummaryWidths[6], true);
+        while (!text.empty() && text.back() == ' ') text.pop_back();
         text += '\n';
-        for (const std::string& line : wrap("", heading(run.scenario), 2)) text += line + '\n';
-        std::string header = "  ";
-        header += pad(kColumns[0], name_width, false);
-        for (std::size_t c = 1; c < std::size(kColumns); ++c) {
-            header += ' ';
-            header += pad(kColumns[c], kWidths[c], true);
-        }
-        text += header + '\n';
+        if (r.filled_from)
+            message(text, std::string(indent, ' '),
+                    fmt::format("states repeat from t = {:.6g} s (every {} step{}): the last {} filled, not computed",
+                                *r.filled_from, r.fill_period, r.fill_period == 1 ? "" : "s", r.fill_steps),
+                    nullptr);
+    }
 
+    text += '\n';
+    text += header_line(kColumns, kWidths, name_width);
+    for (const Row& row : rows) {
+        if (row.status == RunStatus::skipped) {
+            message(text, name_cell(row), "skipped", kYellow);
+            continue;
+        }
+        if (row.status == RunStatus::failed) {
+            message(text, name_cell(row), "FAILED", kRed);
+            continue;
+        }
+        std::string line = name_cell(row);
+        const std::string cells[] = {row.apex_exact, row.contact_exact, row.rms_before_rest, row.tracks_exact,
+                                     row.apex_ref,   row.alpha,         row.beta};
+        for (std::size_t c = 0; c < std::size(cells); ++c) {
+            if (c) line += ' ';
+            line += pad(truncate(cells[c], kWidths[c + 1]), kWidths[c + 1], true);
+        }
+        line += ' ';
+        line += paint(pad(row.damping, kWidths[8], true), row.damping_ok ? kGreen : kRed, colour && row.comparison);
+        line += ' ';
+        line += paint(pad(row.thresholds, kWidths[9], true), row.thresholds_ok ? kGreen : kRed,
+                      colour && row.comparison && !row.comparison->thresholds.empty());
+        text += line + '\n';
+        for (const ThresholdCheck* t : row.failed) {
+            const auto [measured, limit] = threshold_numbers(*t);
+            for (const std::string& l : wrap("      ", fmt::format("{} = {} > {}", t->metric, measured, limit), 8))
+                text += l + '\n';
+        }
+    }
+    const std::string ranking = ranking_text(rank_simulators(run.results, run.comparisons));
+    if (!ranking.empty())
+        for (const std::string& line : wrap("  ", ranking, 4)) text += line + '\n';
+    return text;
+}
+
+}  // namespace
+
+std::string format_run(const RunReport& report, bool colour) {
+    std::string text;
+    for (const ScenarioRun& run : report.scenarios) text += format_scenario(run, colour);
+    return text;
+}
+
+RunVerdict run_verdict(const RunReport& report, bool baseline_changed) {
+    RunVerdict verdict;
+    verdict.baseline_changed = baseline_changed;
+    for (const ScenarioRun& run : report.scenarios) {
         for (std::size_t i = 0; i < run.results.size(); ++i) {
-            const Row row = make_row(run, i);
-            std::string name = "  ";
-            name += pad(truncate(row.simulator, name_width), name_width, false);
-            name += ' ';
-            const std::size_t indent = name_width + 3;  // visible width of `name`
-            // `message` after `name` (first line) or after `indent` spaces, wrapped and painted.
-            auto message = [&](const std::string& first, const std::string& what, const char* paint_colour) {
-                const std::vector<std::string> lines = wrap(first, what, indent);
-                for (std::size_t l = 0; l < lines.size(); ++l) {
-                    const std::size_t prefix = l == 0 ? first.size() : indent;
-                    text += lines[l].substr(0, prefix) + paint(lines[l].substr(prefix), paint_colour, colour) + '\n';
-                }
-            };
-            if (row.status == RunStatus::skipped) {
-                message(name, "skipped: " + row.reason, kYellow);
+            const SimulatorSummary& r = run.results[i];
+            const std::string who = fmt::format("{} on {}", r.simulator, run.scenario.name);
+            if (r.status == RunStatus::failed) {
+                verdict.failed.push_back(who);
                 continue;
             }
-            std::string line = name;
-            const std::string cells[] = {row.apex_exact, row.contact_exact, row.tracks_exact,
-                                         row.apex_ref,   row.alpha,         row.beta};
-            for (std::size_t c = 0; c < std::size(cells); ++c) {
-                if (c) line += ' ';
-                line += pad(truncate(cells[c], kWidths[c + 1]), kWidths[c + 1], true);
-            }
-            const char* damping_colour = row.damping_ok ? kGreen : kRed;
-            const char* threshold_colour = row.thresholds_ok ? kGreen : kRed;
-            line += ' ';
-            line += paint(pad(row.damping, kWidths[7], true), damping_colour, colour && row.comparison);
-            line += ' ';
-            line += paint(pad(row.thresholds, kWidths[8], true), threshold_colour,
-                          colour && row.comparison && !row.comparison->thresholds.empty());
-            line += ' ';
-            line += pad(truncate(row.ns_per_step, kWidths[9]), kWidths[9], true);
-            text += line + '\n';
-            for (const ThresholdCheck* t : row.failed) {
-                const auto [measured, limit] = threshold_numbers(*t);
-                for (const std::string& l :
-                     wrap("      ", fmt::format("{} = {} > {}", t->metric, measured, limit), 8))
-                    text += l + '\n';
-            }
-            if (row.status == RunStatus::failed) message(std::string(indent, ' '), "FAILED: " + row.reason, kRed);
+            const Comparison* c = comparison_of(run, i);
+            if (!c || r.status != RunStatus::ok) continue;
+            if (!c->passed()) verdict.exceeded.push_back(who);
+            if (!c->damping.reproduces) verdict.damping_differs.push_back(who);
         }
+    }
+    return verdict;
+}
+
+namespace {
+
+// "a, b and 3 more": the first few of a list, for one line.
+std::string first_few(const std::vector<std::string>& items) {
+    constexpr std::size_t kShown = 3;
+    if (items.size() <= kShown) return fmt::format("{}", fmt::join(items, ", "));
+    return fmt::format("{} and {} more", fmt::join(items.begin(), items.begin() + kShown, ", "), items.size() - kShown);
+}
+
+}  // namespace
+
+namespace {
+
+// The verdict, then the note on damping if any: each one unwrapped line.
+std::vector<std::string> verdict_sentences(const RunVerdict& verdict) {
+    std::vector<std::string> parts;
+    if (!verdict.failed.empty())
+        parts.push_back(fmt::format("{} simulator run{} failed ({}); the other results are written",
+                                    verdict.failed.size(), verdict.failed.size() == 1 ? "" : "s",
+                                    first_few(verdict.failed)));
+    if (!verdict.exceeded.empty())
+        parts.push_back(fmt::format("{} exceeded a threshold ({})",
+                                    verdict.exceeded.size() == 1 ? std::string("one run")
+                                                                 : fmt::format("{} runs", verdict.exceeded.size()),
+                                    first_few(verdict.exceeded)));
+    if (verdict.baseline_changed) parts.push_back("the results changed from the baseline beyond tolerance");
+    if (parts.empty()) parts.push_back("every simulator ran and every threshold held");
+    std::vector<std::string> sentences{
+        fmt::format("verdict: {} (exit {})", fmt::join(parts, "; "), verdict.exit_status)};
+    // Not an exit status of its own (a threshold gates it), but worth saying.
+    if (!verdict.damping_differs.empty())
+        sentences.push_back(fmt::format("note: the measured damping differs from the law for {} (a [thresholds] "
+                                        "restitution_abs, tangential_abs or tangential_loss_rel gates it)",
+                                        first_few(verdict.damping_differs)));
+    return sentences;
+}
+
+}  // namespace
+
+std::string format_verdict(const RunVerdict& verdict) {
+    std::string text;
+    for (const std::string& sentence : verdict_sentences(verdict)) {
+        const std::size_t label = sentence.find(' ') + 1;  // continuation lines line up after "verdict: "
+        for (const std::string& line : wrap(sentence.substr(0, label), sentence.substr(label), label))
+            text += line + '\n';
     }
     return text;
 }
 
-std::string to_markdown(const RunReport& report) {
+std::string to_markdown(const RunReport& report, const RunVerdict* verdict) {
     std::string text = "# bouncecheck report\n";
     auto out = std::back_inserter(text);
     if (!report.provenance.build.version.empty())  // a report built in code (tests) has none
@@ -525,27 +673,46 @@ std::string to_markdown(const RunReport& report) {
     for (const ScenarioRun& run : report.scenarios) {
         const Scenario& s = run.scenario;
         fmt::format_to(out, "\n## {}\n\n", md_cell(heading(s)));
-        text += "|";
-        for (const char* column : kColumns) fmt::format_to(out, " {} |", column);
-        text += "\n| :-- | --: | --: | --: | --: | --: | --: | :-- | :-- | --: |\n";
+        std::vector<Row> rows;
+        for (std::size_t i = 0; i < run.results.size(); ++i) rows.push_back(make_row(run, i));
 
-        std::vector<std::string> failures, verdicts, origins;
-        for (std::size_t i = 0; i < run.results.size(); ++i) {
-            const Row row = make_row(run, i);
+        text += "|";
+        for (const char* column : kSummaryColumns) fmt::format_to(out, " {} |", column);
+        text += "\n| :-- | --: | --: | :-- | --: | --: | --: |\n";
+        for (const Row& row : rows) {
             const std::string name = md_cell(row.simulator);
+            if (row.status == RunStatus::skipped)
+                fmt::format_to(out, "| {} | skipped: {} |  |  |  |  |  |\n", name, md_cell(row.reason));
+            else if (row.status == RunStatus::failed)
+                fmt::format_to(out, "| {} | **FAILED**: {} |  |  |  |  |  |\n", name, md_cell(row.reason));
+            else
+                fmt::format_to(out, "| {} | {} | {} | {} | {} | {} | {} |\n", name, row.steps, row.contacts,
+                               row.apexes, row.rest, row.run_time, row.ns_per_step);
+        }
+
+        text += "\n|";
+        for (const char* column : kColumns) fmt::format_to(out, " {} |", column);
+        text += "\n| :-- | --: | --: | --: | --: | --: | --: | --: | :-- | :-- |\n";
+        std::vector<std::string> failures, verdicts, origins;
+        for (std::size_t i = 0; i < rows.size(); ++i) {
+            const Row& row = rows[i];
+            const std::string name = md_cell(row.simulator);
+            if (!run.results[i].origin.empty())
+                origins.push_back(fmt::format("- {}: {}", name, md_cell(run.results[i].origin)));
             if (row.status == RunStatus::skipped) {
-                fmt::format_to(out, "| {} | skipped: {} |  |  |  |  |  |  |  |  |\n", name, md_cell(row.reason));
+                fmt::format_to(out, "| {} | skipped |  |  |  |  |  |  |  |  |\n", name);
+                continue;
+            }
+            if (row.status == RunStatus::failed) {
+                fmt::format_to(out, "| {} | **FAILED** |  |  |  |  |  |  |  |  |\n", name);
+                failures.push_back(fmt::format("- {}: **FAILED**: {}", name, md_cell(row.reason)));
                 continue;
             }
             const std::string thresholds = row.thresholds_ok ? row.thresholds : "**" + row.thresholds + "**";
             const std::string damping = row.damping_ok ? row.damping : "**" + row.damping + "**";
             fmt::format_to(out, "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", name, row.apex_exact,
-                           row.contact_exact, row.tracks_exact, row.apex_ref, row.alpha, row.beta, damping, thresholds,
-                           row.ns_per_step);
-            if (!run.results[i].origin.empty())
-                origins.push_back(fmt::format("- {}: {}", name, md_cell(run.results[i].origin)));
-            if (row.status == RunStatus::failed)
-                failures.push_back(fmt::format("- {}: **FAILED**: {}", name, md_cell(row.reason)));
+                           row.contact_exact, row.rms_before_rest, row.tracks_exact, row.apex_ref, row.alpha, row.beta,
+                           damping, thresholds);
             for (const ThresholdCheck* t : row.failed) {
                 const auto [measured, limit] = threshold_numbers(*t);
                 failures.push_back(fmt::format("- {}: `{}` = {} > {}", name, t->metric, measured, limit));
@@ -553,6 +720,8 @@ std::string to_markdown(const RunReport& report) {
             if (row.comparison && !row.comparison->damping.verdict.empty())
                 verdicts.push_back(fmt::format("- {}: {}", name, md_cell(row.comparison->damping.verdict)));
         }
+        const std::string ranking = ranking_text(rank_simulators(run.results, run.comparisons));
+        if (!ranking.empty()) fmt::format_to(out, "\n{}\n", md_cell(ranking));
         if (!failures.empty()) {
             text += "\nFailures:\n\n";
             for (const std::string& f : failures) text += f + '\n';
@@ -565,6 +734,11 @@ std::string to_markdown(const RunReport& report) {
             text += "\nSimulators from outside this build:\n\n";
             for (const std::string& o : origins) text += o + '\n';
         }
+    }
+    if (verdict) {
+        const std::vector<std::string> sentences = verdict_sentences(*verdict);
+        for (std::size_t i = 0; i < sentences.size(); ++i)
+            text += i == 0 ? fmt::format("\n**{}**\n", md_cell(sentences[i])) : fmt::format("\n{}\n", md_cell(sentences[i]));
     }
     return text;
 }
@@ -674,9 +848,9 @@ std::string bounces_csv(const RunReport& report) {
     return text;
 }
 
-void write_reports(const RunReport& report, const std::filesystem::path& out_dir) {
+void write_reports(const RunReport& report, const std::filesystem::path& out_dir, const RunVerdict* verdict) {
     write_file_atomically(out_dir / "report.json", to_json(report).dump(2) + "\n");
-    write_file_atomically(out_dir / "report.md", to_markdown(report));
+    write_file_atomically(out_dir / "report.md", to_markdown(report, verdict));
     write_file_atomically(out_dir / "junit.xml", to_junit(report));
     write_file_atomically(out_dir / "bounces.csv", bounces_csv(report));
     const bool plotted = std::any_of(report.scenarios.begin(), report.scenarios.end(),

@@ -46,13 +46,32 @@ struct RunReport {
 nlohmann::json to_json(const RunReport& report);
 // Text made safe for XML and HTML (junit.xml, the HTML pages' titles).
 std::string xml_escape(std::string_view s);
-// Per scenario, one row per simulator: steps, contacts, first apex heights, rest, run time.
-std::string format_summary(const RunReport& report);
-// Per scenario, one row per simulator: divergence from the reference, error
-// against exact, measured damping, threshold verdicts, ns per step. Fits 100
-// columns; ANSI colour only when `colour` (the CLI passes isatty(stdout)).
-std::string format_comparison(const RunReport& report, bool colour);
-std::string to_markdown(const RunReport& report);   // report.md: the same tables, for a pull request
+// The terminal's tables: per scenario one block, its heading, then the
+// summary (one row per simulator: steps, contacts, first apex heights, rest,
+// run time, ns per step), then the comparison (error against exact,
+// divergence from the reference, measured damping, the verdicts), then the
+// engines closest to exact and to the reference (verdicts/ranking.h). A
+// failed or skipped simulator's rows show only that. Fits 100 columns (names
+// cut at 12 characters); ANSI colour only when `colour` (the CLI passes
+// isatty(stdout)).
+std::string format_run(const RunReport& report, bool colour);
+
+// What a run's exit status is decided from, each entry "SIMULATOR on SCENARIO",
+// and the status the command decided (commands/command.h has the contract).
+struct RunVerdict {
+    std::vector<std::string> failed;           // the run failed (exit 3)
+    std::vector<std::string> exceeded;         // a threshold was exceeded (exit 1)
+    std::vector<std::string> damping_differs;  // measured damping off the law (gates only through a threshold)
+    bool baseline_changed = false;             // run --baseline: a change beyond tolerance (exit 1)
+    int exit_status = 0;
+};
+RunVerdict run_verdict(const RunReport& report, bool baseline_changed = false);
+// The run's last lines: its verdict and exit status in words, and a note when
+// a simulator's measured damping differs from the law.
+std::string format_verdict(const RunVerdict& verdict);
+// report.md: the same blocks as the terminal, for a pull request, ending
+// with the verdict when `verdict` is given (the file written by a run has it).
+std::string to_markdown(const RunReport& report, const RunVerdict* verdict = nullptr);
 std::string to_junit(const RunReport& report);      // junit.xml: a test case per scenario x simulator x threshold
 std::string bounces_csv(const RunReport& report);   // bounces.csv: scenario,simulator,bounce,t,apex,measured_alpha,measured_beta
 // report.html: one self-contained page (the charting library inlined) with
@@ -60,6 +79,7 @@ std::string bounces_csv(const RunReport& report);   // bounces.csv: scenario,sim
 Page to_html(const RunReport& report);
 // Writes report.json, report.md, junit.xml, bounces.csv and, when the run
 // recorded plots, report.html into out_dir, each atomically.
-void write_reports(const RunReport& report, const std::filesystem::path& out_dir);
+// `verdict`: how report.md ends.
+void write_reports(const RunReport& report, const std::filesystem::path& out_dir, const RunVerdict* verdict = nullptr);
 
 }  // namespace bouncecheck

@@ -108,6 +108,39 @@ TEST(Cli, EnginesSelectsSimulatorsAndRejectsUnknownOnes) {
     fs::remove_all(out);
 }
 
+// The run's last line says its exit status and why, in words, for each status.
+TEST(Cli, RunEndsWithItsVerdictAndExitStatus) {
+    const fs::path out = fresh_dir("verdict");
+    const std::string seed = kScenarios + "/seed-2d.toml --out " + out.string();
+    const auto last_line = [](const std::string& output) {
+        std::string text = output;
+        while (!text.empty() && text.back() == '\n') text.pop_back();
+        const auto at = text.rfind("\nverdict: ");
+        return at == std::string::npos ? std::string() : text.substr(at + 1);
+    };
+    CliResult r = bouncecheck("run " + seed + " --engines reference,exact");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(last_line(r.output), "verdict: every simulator ran and every threshold held (exit 0)") << r.output;
+    // The terminal's block order: summary, comparison, then the ranking (none: no engine ran).
+    EXPECT_LT(r.output.find("first apex heights"), r.output.find("apex err")) << r.output;
+    EXPECT_EQ(r.output.find("closest to"), std::string::npos) << r.output;
+
+    r = bouncecheck("run " + seed + " --engines reference,exact --threshold error_bounce_height_rel=0.01");
+    ASSERT_EQ(r.status, 1) << r.output;
+    EXPECT_EQ(last_line(r.output), "verdict: one run exceeded a threshold (reference on seed-2d) (exit 1)") << r.output;
+    EXPECT_NE(slurp(out / "report.md").find("**verdict: one run exceeded a threshold (reference on seed-2d) (exit 1)**"),
+              std::string::npos);
+
+    r = bouncecheck("run " + seed + " --engines exact --external broken=/bin/false");
+    ASSERT_EQ(r.status, 3) << r.output;
+    EXPECT_EQ(last_line(r.output),
+              "verdict: 1 simulator run failed (broken on seed-2d); the other results are written (exit 3)")
+        << r.output;
+    // Its rows show only the failure: no figure, no verdict beside it.
+    EXPECT_NE(r.output.find("\n  broken    FAILED\n"), std::string::npos) << r.output;
+    fs::remove_all(out);
+}
+
 TEST(Cli, InvalidScenarioExits2WithLocatedMessageAndRunsNothing) {
     const fs::path out = fresh_dir("invalid");
     fs::create_directories(out);

@@ -3,10 +3,12 @@
 #include "platform/program.h"
 #include "reports/provenance.h"
 #include "reports/run_report.h"
+#include "verdicts/ranking.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -290,8 +292,10 @@ TEST(ReportsJunit, EscapesXmlText) {
 TEST(ReportsMarkdown, TableAndFailedThreshold) {
     const std::string md = to_markdown(test_report());
     EXPECT_NE(md.find("## seed-3d (3D, dt = 0.03 s, duration = 42 s)"), std::string::npos);
-    EXPECT_NE(md.find("| simulator | apex err | contact err | tracks exact | apex div | alpha | beta | damping | "
-                      "thresholds | ns/step |"),
+    EXPECT_NE(md.find("| simulator | steps | contacts | first apex heights (m) | rest (s) | run time | ns/step |"),
+              std::string::npos);
+    EXPECT_NE(md.find("| simulator | apex err | contact err | rms<rest | tracks exact | apex div | alpha | beta | "
+                      "damping | thresholds |"),
               std::string::npos);
     EXPECT_NE(md.find("- bullet: `trajectory_rms` = 0.0123 > 0.01"), std::string::npos);
     EXPECT_NE(md.find("- bullet: normal coefficient 0.75 differs from alpha 0.8"), std::string::npos);
@@ -319,30 +323,55 @@ TEST(ReportsTerminal, FitsHundredColumnsWithoutColour) {
     report.scenarios[0].results[2].reason = std::string(200, 'r');
 
     for (bool colour : {false, true}) {
-        const std::string text = format_comparison(report, colour);
+        const std::string text = format_run(report, colour);
         EXPECT_EQ(text.find('\x1b') != std::string::npos, colour);
         for (const std::string& line : lines_of(text)) EXPECT_LE(visible_columns(line), 100u) << line;
         EXPECT_NE(text.find("FAILED: xxxx"), std::string::npos);
         EXPECT_NE(text.find("skipped: rrrr"), std::string::npos);
     }
-    const std::string plain = format_comparison(report, false);
+    const std::string plain = format_run(report, false);
     EXPECT_NE(plain.find("trajectory_rms = 0.0123 > 0.01"), std::string::npos);
     EXPECT_NE(plain.find("FAIL 1"), std::string::npos);
     EXPECT_NE(plain.find("DIFFERS"), std::string::npos);
 }
 
-TEST(ReportsTerminal, Rows) {
-    const std::vector<std::string> lines = lines_of(format_comparison(test_report(), false));
+TEST(ReportsTerminal, OneBlockPerScenarioSummaryThenComparisonThenRanking) {
+    const std::vector<std::string> lines = lines_of(format_run(test_report(), false));
     const std::vector<std::string> expected = {
         "",
         "seed-3d (3D, dt = 0.03 s, duration = 42 s)",
-        "  simulator  apex err contact err tracks exact  apex div  alpha   beta damping thresholds ns/step",
-        "  reference     0.10%      0.03 s    whole run     0.00% 0.8000 0.9900      ok       pass    10.0",
-        "  bullet        4.10%       0.1 s       2.52 s     4.00% 0.7500      - DIFFERS     FAIL 1   125.0",
-        "      trajectory_rms = 0.0123 > 0.01",
+        "  simulator     steps  contacts  first apex heights (m)          rest (s)   run time   ns/step",
+        "  reference      1400         5  0.7000 0.5000                          -    0.014ms      10.0",
+        "  bullet         1400         4  0.7100 0.5200                          -    0.175ms     125.0",
         "  ode       skipped: needs <libode> & \"double\" 'ok'",
+        "",
+        "  simulator apex err contact err  rms<rest tracks exact apex div  alpha   beta damping thresholds",
+        "  reference    0.10%      0.03 s 1.5e-06 m    whole run    0.00% 0.8000 0.9900      ok       pass",
+        "  bullet       4.10%       0.1 s  0.0125 m       2.52 s    4.00% 0.7500      - DIFFERS     FAIL 1",
+        "      trajectory_rms = 0.0123 > 0.01",
+        "  ode       skipped",
+        // The baselines are not ranked: bullet is the only engine.
+        "  closest to exact: apex heights bullet (4.10%), contact times bullet (0.1 s), tracks longest bullet",
+        "    (2.52 s); closest to the reference: bullet (4.00%)",
     };
     EXPECT_EQ(lines, expected);
+}
+
+TEST(ReportsTerminal, FailedRowShowsOnlyItsFailure) {
+    RunReport report = test_report();
+    report.scenarios[0].results[1].status = RunStatus::failed;  // bullet, with its comparison still attached
+    report.scenarios[0].results[1].reason = "external exited with status 1";
+    const std::string text = format_run(report, false);
+    const std::vector<std::string> lines = lines_of(text);
+    EXPECT_NE(std::find(lines.begin(), lines.end(), "  bullet    FAILED: external exited with status 1"), lines.end())
+        << text;
+    EXPECT_NE(std::find(lines.begin(), lines.end(), "  bullet    FAILED"), lines.end()) << text;
+    // None of its partial figures, verdicts or threshold lines, and it ranks nothing.
+    for (const char* figure : {"4.10%", "0.0125 m", "DIFFERS", "FAIL 1", "trajectory_rms", "0.7100", "closest"})
+        EXPECT_EQ(text.find(figure), std::string::npos) << figure << "\n" << text;
+    const std::string md = to_markdown(report);
+    EXPECT_NE(md.find("| bullet | **FAILED** |"), std::string::npos) << md;
+    EXPECT_EQ(md.find("4.10%"), std::string::npos) << md;
 }
 
 TEST(ReportsTerminal, ExactAgainstItselfRanksNothing) {
@@ -353,9 +382,39 @@ TEST(ReportsTerminal, ExactAgainstItselfRanksNothing) {
     c.vs_exact = divergence("exact", 0.0, 0.0);
     report.scenarios[0].results = {exact};
     report.scenarios[0].comparisons = {c};
-    const std::vector<std::string> lines = lines_of(format_comparison(report, false));
-    ASSERT_EQ(lines.size(), 4u);
-    EXPECT_EQ(lines[3], "  exact             -           -            -     0.00% 0.8000 0.9900      ok       pass    10.0");
+    const std::vector<std::string> lines = lines_of(format_run(report, false));
+    ASSERT_EQ(lines.size(), 7u);  // heading, 2 summary lines with the fill note, blank, 2 rows: no ranking line
+    EXPECT_EQ(lines[6], "  exact            -           -         -            -    0.00% 0.8000 0.9900      ok       pass");
+}
+
+TEST(ReportsVerdict, SaysTheExitStatusAndWhy) {
+    RunReport report = test_report();
+    RunVerdict verdict = run_verdict(report);
+    EXPECT_TRUE(verdict.failed.empty());
+    EXPECT_EQ(verdict.exceeded, std::vector<std::string>{"bullet on seed-3d"});
+    EXPECT_EQ(verdict.damping_differs, std::vector<std::string>{"bullet on seed-3d"});
+    verdict.exit_status = 1;
+    const std::vector<std::string> lines = lines_of(format_verdict(verdict));
+    ASSERT_GE(lines.size(), 2u);
+    EXPECT_EQ(lines[0], "verdict: one run exceeded a threshold (bullet on seed-3d) (exit 1)");
+    EXPECT_EQ(lines[1].rfind("note: the measured damping differs from the law for bullet on seed-3d", 0), 0u);
+
+    report.scenarios[0].results[0].status = RunStatus::failed;
+    verdict = run_verdict(report, /*baseline_changed=*/true);
+    verdict.exit_status = 3;
+    EXPECT_EQ(lines_of(format_verdict(verdict))[0],
+              "verdict: 1 simulator run failed (reference on seed-3d); the other results are written; one run");
+    for (const std::string& line : lines_of(format_verdict(verdict))) EXPECT_LE(visible_columns(line), 100u) << line;
+    EXPECT_NE(format_verdict(verdict).find("changed from the baseline"), std::string::npos);
+
+    RunReport clean = test_report();
+    clean.scenarios[0].comparisons[1]->thresholds.clear();
+    clean.scenarios[0].comparisons[1]->damping.reproduces = true;
+    verdict = run_verdict(clean);
+    EXPECT_EQ(format_verdict(verdict), "verdict: every simulator ran and every threshold held (exit 0)\n");
+    // report.md ends with it.
+    const std::string md = to_markdown(clean, &verdict);
+    EXPECT_EQ(md.substr(md.size() - 68), "\n**verdict: every simulator ran and every threshold held (exit 0)**\n");
 }
 
 TEST(ReportsGolden, Markdown) {
@@ -363,11 +422,19 @@ TEST(ReportsGolden, Markdown) {
 
 ## seed-3d (3D, dt = 0.03 s, duration = 42 s)
 
-| simulator | apex err | contact err | tracks exact | apex div | alpha | beta | damping | thresholds | ns/step |
-| :-- | --: | --: | --: | --: | --: | --: | :-- | :-- | --: |
-| reference | 0.10% | 0.03 s | whole run | 0.00% | 0.8000 | 0.9900 | ok | pass | 10.0 |
-| bullet | 4.10% | 0.1 s | 2.52 s | 4.00% | 0.7500 | - | **DIFFERS** | **FAIL 1** | 125.0 |
-| ode | skipped: needs <libode> & "double" 'ok' |  |  |  |  |  |  |  |  |
+| simulator | steps | contacts | first apex heights (m) | rest (s) | run time | ns/step |
+| :-- | --: | --: | :-- | --: | --: | --: |
+| reference | 1400 | 5 | 0.7000 0.5000 | - | 0.014ms | 10.0 |
+| bullet | 1400 | 4 | 0.7100 0.5200 | - | 0.175ms | 125.0 |
+| ode | skipped: needs <libode> & "double" 'ok' |  |  |  |  |  |
+
+| simulator | apex err | contact err | rms<rest | tracks exact | apex div | alpha | beta | damping | thresholds |
+| :-- | --: | --: | --: | --: | --: | --: | --: | :-- | :-- |
+| reference | 0.10% | 0.03 s | 1.5e-06 m | whole run | 0.00% | 0.8000 | 0.9900 | ok | pass |
+| bullet | 4.10% | 0.1 s | 0.0125 m | 2.52 s | 4.00% | 0.7500 | - | **DIFFERS** | **FAIL 1** |
+| ode | skipped |  |  |  |  |  |  |  |  |
+
+closest to exact: apex heights bullet (4.10%), contact times bullet (0.1 s), tracks longest bullet (2.52 s); closest to the reference: bullet (4.00%)
 
 Failures:
 
@@ -406,6 +473,50 @@ TEST(Provenance, NamesTheCommitTheBinaryWasBuiltFrom) {
     const std::string head = source_head();
     if (head.empty()) GTEST_SKIP() << "not built from a git checkout, or no git";
     EXPECT_EQ(this_provenance(false).build.git_commit, head);
+}
+
+TEST(Ranking, EnginesOnlyTiesTogetherFailedLeftOut) {
+    RunReport report = test_report();
+    ScenarioRun& run = report.scenarios[0];
+    // A second engine tied with bullet on apex heights, better on contact times, never leaving exact's band.
+    SimulatorSummary twin = run.results[1];
+    twin.simulator = "twin";
+    Comparison twin_c = *run.comparisons[1];
+    twin_c.vs_exact.contact_time_max = 0.01;
+    twin_c.vs_exact.trajectory.first_exceeds.reset();
+    run.results.push_back(twin);
+    run.comparisons.push_back(twin_c);
+    // A failed engine with the best figures of all ranks nothing.
+    SimulatorSummary broken = run.results[1];
+    broken.simulator = "broken";
+    broken.status = RunStatus::failed;
+    Comparison broken_c = *run.comparisons[1];
+    broken_c.vs_exact.bounce_height_rel_max = 0;
+    broken_c.vs_reference.bounce_height_rel_max = 0;
+    run.results.push_back(broken);
+    run.comparisons.push_back(broken_c);
+
+    const ScenarioRanking r = rank_simulators(run.results, run.comparisons);
+    ASSERT_TRUE(r.apex_error && r.contact_error && r.tracks_exact && r.apex_divergence);
+    EXPECT_EQ(r.apex_error->simulators, (std::vector<std::string>{"bullet", "twin"}));  // the reference's 0.10% is not ranked
+    EXPECT_EQ(r.contact_error->simulators, std::vector<std::string>{"twin"});
+    EXPECT_DOUBLE_EQ(r.contact_error->value, 0.01);
+    EXPECT_EQ(r.tracks_exact->simulators, std::vector<std::string>{"twin"});
+    EXPECT_TRUE(r.tracks_exact->whole_run);
+    EXPECT_EQ(r.apex_divergence->simulators, (std::vector<std::string>{"bullet", "twin"}));
+
+    const nlohmann::json j = to_json(report)["scenarios"][0]["ranking"];
+    EXPECT_EQ(j["contact_error"]["simulators"], nlohmann::json::array({"twin"}));
+    EXPECT_TRUE(j["tracks_exact"]["value"].is_null());  // the whole run
+    EXPECT_EQ(j["apex_error"]["simulators"], nlohmann::json::array({"bullet", "twin"}));
+}
+
+TEST(Ranking, NothingToRankWithoutAnEngine) {
+    RunReport report = test_report();
+    report.scenarios[0].results.resize(1);  // the reference only
+    report.scenarios[0].comparisons.resize(1);
+    EXPECT_TRUE(rank_simulators(report.scenarios[0].results, report.scenarios[0].comparisons).empty());
+    EXPECT_TRUE(to_json(report)["scenarios"][0]["ranking"]["apex_error"].is_null());
 }
 
 }  // namespace

@@ -116,7 +116,6 @@ int command_run(RunOptions opt) {
 
     RunReport report;
     report.provenance = this_provenance(/*with_machine=*/!opt.no_timings);
-    bool any_failed = false, any_exceeded = false;
     for (const Scenario& s : *scenarios) {
         RunRequest request{extra->for_scenario(s, *selected), out_dir, opt.trajectories, opt.overrides,
                            /*plots=*/true, /*isolate=*/!opt.in_process};
@@ -127,31 +126,31 @@ int command_run(RunOptions opt) {
         // the same input: without them every file is a function of the input.
         if (opt.no_timings)
             for (SimulatorSummary& r : run.results) r.run_seconds = std::nan("");
-        for (std::size_t i = 0; i < run.results.size(); ++i) {
-            any_failed = any_failed || run.results[i].status == RunStatus::failed;
-            any_exceeded = any_exceeded || (run.comparisons[i] && !run.comparisons[i]->passed());
-        }
         report.scenarios.push_back(std::move(run));
     }
 
-    fmt::print("{}", format_summary(report));
     const bool colour = ::isatty(::fileno(stdout)) && !std::getenv("NO_COLOR");
-    fmt::print("{}", format_comparison(report, colour));
-    write_reports(report, out_dir);
+    fmt::print("{}", format_run(report, colour));
+    // The baseline is compared before the reports are written: report.md ends with the verdict.
+    std::optional<ReportDiff> diff;
+    if (baseline)
+        diff = diff_reports(*baseline, LoadedReport{to_json(report), (out_dir / "report.json").string()}, *tolerances,
+                            opt.judging.ratio());
+    const bool changed = diff && diff->changed();
+    RunVerdict verdict = run_verdict(report, changed);
+    verdict.exit_status = !verdict.failed.empty()                      ? kSimulatorFailed
+                          : !verdict.exceeded.empty() || changed ? kThresholdExceeded
+                                                                       : kOk;
+    write_reports(report, out_dir, &verdict);
     fmt::print("\nwrote report.html, report.json, report.md, junit.xml and bounces.csv in {}\n", out_dir.string());
     fmt::print("{}\n", format_provenance(report.provenance));
-    bool changed = false;
-    if (baseline) {
-        const ReportDiff diff =
-            diff_reports(*baseline, LoadedReport{to_json(report), (out_dir / "report.json").string()}, *tolerances,
-                         opt.judging.ratio());
-        fmt::print("{}", format_diff(diff));
-        write_diff(diff, out_dir);
+    if (diff) {
+        fmt::print("{}", format_diff(*diff));
+        write_diff(*diff, out_dir);
         fmt::print("\nwrote diff.md and diff.json in {}\n", out_dir.string());
-        changed = diff.changed();
     }
-    if (any_failed) return kSimulatorFailed;
-    return any_exceeded || changed ? kThresholdExceeded : kOk;
+    fmt::print("\n{}", format_verdict(verdict));
+    return verdict.exit_status;
 }
 
 }  // namespace

@@ -287,30 +287,24 @@
     ];
   }
 
-  // The best simulator on one figure: the smallest value (largest with
-  // `larger`), ties listed together.
-  function leader(results, figure, larger, format) {
-    const scored = results.map((r) => ({ name: r.simulator, f: rankingFigures(r) }))
-      .filter((x) => x.f && x.f[figure] !== null && x.f[figure] !== undefined);
-    if (!scored.length) return "-";
-    const value = (x) => x.f[figure];
-    const best = scored.reduce((a, b) => ((larger ? value(b) > value(a) : value(b) < value(a)) ? b : a));
-    const tied = scored.filter((x) => value(x) === value(best)).map((x) => x.name);
-    return tied.join(", ") + " (" + format(value(best)) + ")";
+  // One ranked figure's leader as report.json's "ranking" has it (ties listed together).
+  function leaderText(l, format) {
+    return l ? l.simulators.join(", ") + " (" + format(l.value === null ? Infinity : l.value) + ")" : "-";
   }
 
   // The ranking per scenario, first on the page: who is closest to exact on
   // each figure that ranks (bounce heights, contact times, how long it tracks),
-  // and who is closest to the reference.
+  // and who is closest to the reference. Engines only, ranked by bouncecheck
+  // (verdicts/ranking.h) as the terminal's line.
   function rankingTable(report) {
     const rows = report.scenarios.map((entry, index) => {
-      const engines = entry.simulators.filter((r) => r.simulator !== REFERENCE && r.simulator !== EXACT);
+      const r = entry.ranking;
       return [
         { text: entry.scenario.name, href: scenarioLink(index) },
-        leader(engines, "apexError", false, percent),
-        leader(engines, "contactError", false, (v) => num(v, 3) + " s"),
-        leader(engines, "tracks", true, tracksText),
-        leader(engines.concat(entry.simulators.filter((r) => r.simulator === EXACT)), "apexDivergence", false, percent),
+        leaderText(r.apex_error, percent),
+        leaderText(r.contact_error, (v) => num(v, 3) + " s"),
+        leaderText(r.tracks_exact, tracksText),
+        leaderText(r.apex_divergence, percent),
       ];
     });
     return table(["scenario", "closest to exact: apex heights", "closest to exact: contact times",
