@@ -2,12 +2,14 @@
 
 #include "external/external_simulator.h"
 #include "external/trajectory_reader.h"
+#include "platform/did_you_mean.h"
 #include "platform/program.h"
 #include "scenarios/loader.h"
 
 #include <CLI/CLI.hpp>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -19,17 +21,34 @@ namespace fs = std::filesystem;
 
 namespace bouncecheck {
 
-namespace {
-
-std::vector<std::string> split_list(const std::string& list) {
-    std::vector<std::string> items;
-    std::stringstream ss(list);
-    for (std::string item; std::getline(ss, item, ',');)
-        if (!item.empty()) items.push_back(item);
-    return items;
+CLI::Option* add_list_option(CLI::App& command, const std::string& name, std::vector<std::string>& items,
+                             const std::string& help) {
+    // One argument an occurrence, so a list never swallows the positional
+    // arguments after it (`run --engines ode seed-2d.toml`); occurrences add up.
+    CLI::Option* option = command.add_option(name, items, help)
+                              ->delimiter(',')
+                              ->type_name("LIST")
+                              ->expected(1)
+                              ->allow_extra_args(false)
+                              ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+    // CLI11 splits on the delimiter before it transforms, so each item is
+    // trimmed on its own; an empty one ("a,,b", "a,") is left for the reader
+    // to skip, as select_simulators does.
+    option->transform(
+        [](std::string item) {
+            const auto first = item.find_first_not_of(" \t");
+            if (first == std::string::npos) return std::string();
+            return item.substr(first, item.find_last_not_of(" \t") - first + 1);
+        },
+        "", "trim");
+    return option;
 }
 
-}  // namespace
+void add_no_timings_flag(CLI::App& command, bool& no_timings) {
+    command.add_flag("--no-timings", no_timings,
+                     "Leave wall-clock figures (run times, ns per step, the machine) out of every output, so that "
+                     "the same input gives the same bytes");
+}
 
 fs::path bundled_scenario_dir() {
     if (const char* dir = std::getenv("BOUNCECHECK_SCENARIOS")) return dir;
@@ -62,21 +81,25 @@ std::optional<std::vector<Scenario>> load_all(const std::vector<fs::path>& files
 }
 
 std::optional<std::vector<const Simulator*>> select_simulators(const std::vector<std::unique_ptr<const Simulator>>& all,
-                                                               const std::string& engines, std::string_view excluded,
+                                                               const std::vector<std::string>& engines, std::string_view excluded,
                                                                std::string_view why_excluded) {
+    std::vector<std::string> wanted_names = engines;
+    std::erase(wanted_names, std::string());  // "a,,b": the list's empty items
     std::vector<const Simulator*> selected;
-    std::string known;
+    std::vector<std::string> known;
     for (const auto& sim : all) {
         if (sim->name() == excluded) continue;
-        known += fmt::format("{}{}", known.empty() ? "" : ", ", sim->name());
-        if (engines.empty()) selected.push_back(sim.get());
+        known.push_back(std::string(sim->name()));
+        if (wanted_names.empty()) selected.push_back(sim.get());
     }
-    for (const auto& wanted : split_list(engines)) {
+    for (const auto& wanted : wanted_names) {
         const auto it = std::find_if(all.begin(), all.end(), [&](const auto& sim) { return sim->name() == wanted; });
         if (it == all.end() || wanted == excluded) {
-            const std::string why = it == all.end() ? fmt::format("unknown simulator '{}'", wanted)
-                                                    : std::string(why_excluded);
-            fmt::print(stderr, "error: --engines: {} ({}: {})\n", why, excluded.empty() ? "built" : "available", known);
+            const std::string why = it == all.end()
+                                        ? fmt::format("unknown simulator '{}'{}", wanted, did_you_mean(wanted, known))
+                                        : std::string(why_excluded);
+            fmt::print(stderr, "error: --engines: {} ({}: {})\n", why, excluded.empty() ? "built" : "available",
+                       fmt::join(known, ", "));
             return std::nullopt;
         }
         if (std::find(selected.begin(), selected.end(), it->get()) == selected.end()) selected.push_back(it->get());

@@ -21,6 +21,7 @@
 
 namespace CLI {
 class App;
+class Option;
 }
 
 namespace bouncecheck {
@@ -59,10 +60,21 @@ std::vector<std::filesystem::path> scenario_files(const std::filesystem::path& d
 // failure. `external_names`: see load_scenario.
 std::optional<std::vector<Scenario>> load_all(const std::vector<std::filesystem::path>& files,
                                               const std::vector<std::string>& external_names = {});
+// A list option, the same in every command: items comma-separated, spaces
+// around each trimmed, the flag repeatable
+// (`--engines bullet,ode --engines exact`). `name` may carry aliases
+// ("--engines,--engine").
+CLI::Option* add_list_option(CLI::App& command, const std::string& name, std::vector<std::string>& items,
+                             const std::string& help);
+
+// --no-timings, the same in every command that writes timings.
+void add_no_timings_flag(CLI::App& command, bool& no_timings);
+
 // The simulators --engines names (every one in `all` if empty), in its order,
-// without `excluded`. An unknown or excluded name is reported: nothing returned.
+// without `excluded`. An unknown or excluded name is reported, with the
+// closest known one: nothing returned.
 std::optional<std::vector<const Simulator*>> select_simulators(const std::vector<std::unique_ptr<const Simulator>>& all,
-                                                               const std::string& engines,
+                                                               const std::vector<std::string>& engines,
                                                                std::string_view excluded = {},
                                                                std::string_view why_excluded = {});
 // Creates --out; reports why not.

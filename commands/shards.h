@@ -68,7 +68,7 @@ bool shards_ran_this_plan(const ShardSet& shards, const std::string& planned);
 // shards whose fingerprint is not this plan's, and writes exactly what the
 // unsharded run writes, returning its exit status. In
 // commands/stress/stress_command.cpp and commands/sweep/sweep_command.cpp.
-int merge_stress(const ShardSet& shards, const std::filesystem::path& out_dir);
-int merge_sweep(const ShardSet& shards, const std::filesystem::path& out_dir);
+int merge_stress(const ShardSet& shards, const std::filesystem::path& out_dir, bool no_timings);
+int merge_sweep(const ShardSet& shards, const std::filesystem::path& out_dir, bool no_timings);
 
 }  // namespace bouncecheck

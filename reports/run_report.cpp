@@ -309,7 +309,10 @@ std::string truncate(std::string_view s, std::size_t width) {
     return out + "…";
 }
 
-// `first` followed by `text`, wrapped at kWidth; continuation lines start with `indent` spaces.
+// `first` followed by `text`, wrapped at kWidth; continuation lines start with
+// `indent` spaces. A short parenthesis is one word, so a value never parts
+// from its unit ("(9.51 s)").
+constexpr std::size_t kShortParenthesis = 24;
 std::vector<std::string> wrap(const std::string& first, std::string_view text, std::size_t indent) {
     std::vector<std::string> lines;
     std::string line = first;
@@ -320,6 +323,12 @@ std::vector<std::string> wrap(const std::string& first, std::string_view text, s
         if (pos >= text.size()) break;
         std::size_t end = pos;
         while (end < text.size() && text[end] != ' ' && text[end] != '\n' && text[end] != '\t') ++end;
+        // A short parenthesis left open by the word ("(9.51") runs on to its close.
+        const std::string_view so_far = text.substr(pos, end - pos);
+        if (const auto open = so_far.rfind('('); open != std::string_view::npos && so_far.find(')', open) == so_far.npos)
+            if (const auto close = text.find(')', end); close != text.npos && close - (pos + open) <= kShortParenthesis)
+                for (end = close + 1; end < text.size() && text[end] != ' ' && text[end] != '\n' && text[end] != '\t';)
+                    ++end;
         std::string word(text.substr(pos, end - pos));
         pos = end;
         for (;;) {

@@ -106,8 +106,8 @@ std::string format_stress_matrix(const StressReport& r) {
     const std::size_t n_sim = r.simulators.size();
     std::size_t row_width = 8;
     for (const auto& row : r.rows) row_width = std::max(row_width, row.size());
-    std::string out = fmt::format("\nstress: {} rows x {} simulators, {} runs in {:.1f} s\n", r.rows.size(), n_sim,
-                                  r.results.size(), r.wall_seconds);
+    std::string out = fmt::format("\nstress: {} rows x {} simulators, {} runs", r.rows.size(), n_sim, r.results.size());
+    out += std::isnan(r.wall_seconds) ? "\n" : fmt::format(" in {:.1f} s\n", r.wall_seconds);
     out += fmt::format("  {:<{}}", "scenario", row_width);
     for (const auto& sim : r.simulators) out += fmt::format(" {:>13}", sim);
     out += "\n";
@@ -169,9 +169,24 @@ std::string csv_field(const std::string& s) {
 
 std::string num(double v) { return fmt::format("{:.17g}", v); }
 std::string opt_num(const std::optional<double>& v) { return v ? num(*v) : ""; }
+// A wall-clock figure: NaN when left out (--no-timings).
+std::string timing_num(double v) { return std::isnan(v) ? "" : num(v); }
 
 
 }  // namespace
+
+void leave_out_timings(StressReport& r) {
+    const double none = std::nan("");
+    r.wall_seconds = none;
+    for (StressResult& res : r.results) {
+        res.run_seconds = none;
+        for (InvariantCheck& c : res.checks)
+            if (c.invariant == Invariant::time_budget || c.invariant == Invariant::flat_cost) {
+                c.worst = none;
+                c.first_value = none;
+            }
+    }
+}
 
 std::string stress_csv(const StressReport& r) {
     std::string out = "row,scenario,simulator,outcome,first_broken,first_t,first_value,tolerance,penetration,"
@@ -186,10 +201,10 @@ std::string stress_csv(const StressReport& r) {
             checks = fmt::format("{},{},{},{},{},{},{},{},{},{}", first ? to_string(first->invariant) : "",
                                  first ? opt_num(first->first_t) : "", first ? num(first->first_value) : "",
                                  first ? num(first->tolerance) : "", num(room.worst), num(room.tolerance),
-                                 num(energy.worst), num(energy.tolerance), num(res.run_seconds),
-                                 cost.checked ? num(cost.worst) : "");
+                                 num(energy.worst), num(energy.tolerance), timing_num(res.run_seconds),
+                                 cost.checked ? timing_num(cost.worst) : "");
         } else {
-            checks = fmt::format(",,,,,,,,{},", res.outcome == StressOutcome::skipped ? "" : num(res.run_seconds));
+            checks = fmt::format(",,,,,,,,{},", res.outcome == StressOutcome::skipped ? "" : timing_num(res.run_seconds));
         }
         out += fmt::format("{},{},{},{},{},{},{},{},{}\n", res.row, res.scenario, res.simulator, to_string(res.outcome),
                            checks, res.steps, csv_field(res.ccd), csv_field(res.substeps), csv_field(res.reason));
@@ -214,7 +229,7 @@ nlohmann::json result_json(const StressResult& res) {
             {"reason", res.reason},
             {"first_broken", first ? nlohmann::json(to_string(first->invariant)) : nlohmann::json(nullptr)},
             {"steps", res.steps},
-            {"run_seconds", res.run_seconds},
+            {"run_seconds", json_number(res.run_seconds)},
             {"ccd", res.ccd},
             {"substeps", res.substeps},
             {"invariants", checks}};
@@ -277,7 +292,7 @@ void write_stress_json(const std::filesystem::path& target, const StressReport& 
                                         kCostBlockSteps, kCostRatioLimit, kCostMinBlocks)}}},
             {"rows", r.rows},
             {"simulators", r.simulators},
-            {"wall_seconds", r.wall_seconds},
+            {"wall_seconds", json_number(r.wall_seconds)},
             {"results", kResultsSlot},
             {"generated_scenarios", kGeneratedSlot}};
     if (!provenance.is_null()) head["provenance"] = provenance;

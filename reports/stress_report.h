@@ -89,6 +89,12 @@ struct StressReport {
     MonteCarloSet monte_carlo;
 };
 
+// --no-timings: every wall-clock figure (each run's seconds, the flat-cost
+// and time-budget checks' values, the whole run's seconds) becomes NaN,
+// written as empty or null, so the same input gives the same bytes. The
+// checks' verdicts stay: they are judged before.
+void leave_out_timings(StressReport& r);
+
 // The terminal matrix: a row per scenario (a family as counts), a column per simulator.
 std::string format_stress_matrix(const StressReport& r);
 // Every failed, crashed or hung run, one line each, families included.

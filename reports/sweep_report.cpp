@@ -35,6 +35,14 @@ std::string sweep_csv(const SweepResult& r) {
     return out;
 }
 
+void leave_out_timings(SweepResult& r) {
+    for (SweepRow& row : r.rows) {
+        row.ns_per_step.reset();
+        row.sec_per_sim_sec.reset();
+        row.min_seconds.reset();
+    }
+}
+
 std::vector<bool> pareto_front(const std::vector<SweepRow>& rows) {
     const auto usable = [](const SweepRow& r) {
         return r.status == RunStatus::ok && r.error && *r.error > 0 && r.sec_per_sim_sec;

@@ -51,6 +51,11 @@ struct SweepResult {
 // as good on both and better on one.
 std::vector<bool> pareto_front(const std::vector<SweepRow>& rows);
 
+// --no-timings: each row's ns_per_step, sec_per_sim_sec and min_seconds
+// left out, so the same input gives the same bytes. Then no row has a cost:
+// nothing is on the Pareto front, and sweep.html plots the error against dt.
+void leave_out_timings(SweepResult& r);
+
 // sweep.csv: engine,dt,status,error,bounce_error,ns_per_step,sec_per_sim_sec,steps
 std::string sweep_csv(const SweepResult& r);
 // sweep.json: the rows (with their Pareto flag), each engine's fitted order and the command's parameters.

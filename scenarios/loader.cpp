@@ -1,5 +1,6 @@
 #include "scenarios/loader.h"
 
+#include "platform/did_you_mean.h"
 #include "platform/program.h"
 
 #include <fmt/format.h>
@@ -316,6 +317,7 @@ public:
     const toml::node* get(const toml::table& table, std::string_view path, std::string_view key,
                           bool required = true, std::string_view missing = "missing required key") {
         watch(table, path);
+        asked_[&table].emplace_back(key);
         const toml::node* node = table.get(key);
         if (node) used_.insert(node);
         else if (required) report(start_of(table), child_key(path, key), std::string(missing));
@@ -412,11 +414,19 @@ public:
     }
 
     // Reports every key of a looked-at table that was never read.
+    // Each with the closest key the table has, and the table's keys.
     void report_unknown_keys() {
         for (const auto& [table, path] : watched_) {
+            std::vector<std::string> keys;  // every key the loader looks for in this table, as asked
+            for (const std::string& key : asked_[table])
+                if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
             for (const auto& [key, node] : *table) {
                 if (used_.count(&node)) continue;
-                report(start_of(key), child_key(path, key.str()), "unknown key");
+                std::string reason = "unknown key" + did_you_mean(key.str(), keys);
+                if (!keys.empty())
+                    reason += fmt::format(" (keys of {}: {})", path.empty() ? "the file" : "[" + path + "]",
+                                          fmt::join(keys, ", "));
+                report(start_of(key), child_key(path, key.str()), std::move(reason));
             }
         }
     }
@@ -452,6 +462,7 @@ private:
     std::vector<Diagnostic> diagnostics_;
     std::set<const toml::node*> used_;
     std::vector<std::pair<const toml::table*, std::string>> watched_;
+    std::map<const toml::table*, std::vector<std::string>> asked_;  // the keys looked up, per table
 };
 
 // Parses with toml++, turning its error into a diagnostic.
@@ -518,10 +529,22 @@ struct KnownNames {
                external(name);
     }
     bool external(std::string_view name) const { return externals.count(std::string(name)) > 0; }
-    std::string list(std::span<const std::string_view> built_in) const {
-        std::string out = fmt::format("{}", fmt::join(built_in, ", "));
-        for (const std::string& name : externals) out += ", " + name;
+    std::vector<std::string> names(std::span<const std::string_view> built_in) const {
+        std::vector<std::string> out(built_in.begin(), built_in.end());
+        out.insert(out.end(), externals.begin(), externals.end());
         return out;
+    }
+    std::string list(std::span<const std::string_view> built_in) const {
+        return fmt::format("{}", fmt::join(names(built_in), ", "));
+    }
+    // Why `name` is refused, with the closest known name: a name none is
+    // close to is most likely a simulator from outside the build, not declared.
+    std::string unknown(std::string_view what, std::string_view name, std::span<const std::string_view> built_in) const {
+        const auto close = closest_name(name, names(built_in));
+        if (close) return fmt::format("unknown {}; did you mean '{}'? (known: {})", what, *close, list(built_in));
+        return fmt::format("unknown {} (known: {}); a simulator from outside the build is declared with "
+                           "--external {}=COMMAND or an [external.{}] table",
+                           what, list(built_in), name, name);
     }
 };
 
@@ -639,8 +662,7 @@ std::map<std::string, EngineOptions> read_engines(const toml::table& root, Check
     }
     for (const auto& [key, node] : *table) {
         if (known.engine(key.str())) continue;
-        c.report(start_of(key), child_key("engines", key.str()),
-                 fmt::format("unknown engine (known: {})", known.list(built_in_engines())));
+        c.report(start_of(key), child_key("engines", key.str()), known.unknown("engine", key.str(), built_in_engines()));
         c.get(*table, "engines", key.str(), false);  // reported here, not again as an unknown key
     }
     return engines;
@@ -696,7 +718,7 @@ Thresholds read_thresholds(const toml::table& root, Checker& c, const KnownNames
     for (const auto& [key, node] : *table) {
         if (!node.is_table() || is_threshold_key(key.str()) || known.simulator(key.str())) continue;
         c.report(start_of(key), child_key("thresholds", key.str()),
-                 fmt::format("unknown simulator (known: {})", known.list(kBuiltInSimulators)));
+                 known.unknown("simulator", key.str(), kBuiltInSimulators));
         c.get(*table, "thresholds", key.str(), false);  // reported here, not again as an unknown key
     }
     return thresholds;

@@ -267,6 +267,30 @@ TEST(ScenarioLoaderInvalid, EngineTableRejectsUnknownKeys) {
     EXPECT_TRUE(single_error(text, "engines.box2d.enabled", 17, 1, "unknown key"));
 }
 
+TEST(ScenarioLoaderInvalid, UnknownKeySuggestsTheClosestAndListsTheTablesKeys) {
+    const std::string text = with("radius = 0.05\n", "radius = 0.05\npositon = 1.0\n");
+    EXPECT_TRUE(single_error(text, "ball.positon", 6, 1,
+                             "unknown key; did you mean 'position'? (keys of [ball]: radius, position, velocity)"));
+}
+
+TEST(ScenarioLoaderInvalid, EngineKeyTypoSuggestsTheSetting) {
+    const std::string text = std::string(kValid) + "[engines.ode]\nfricton = 0.5\n";
+    const std::vector<Diagnostic> d = errors_of(text);
+    ASSERT_EQ(d.size(), 1u) << dump(d);
+    EXPECT_TRUE(has_error(d, "engines.ode.fricton", 17, 1, "unknown key; did you mean 'friction'? (keys of [engines.ode]:"));
+    EXPECT_NE(d[0].reason.find("tangential_model"), std::string::npos) << d[0].reason;
+}
+
+TEST(ScenarioLoaderInvalid, UnknownEngineSuggestsTheClosestOrHowToDeclareAnExternal) {
+    const std::string typo = std::string(kValid) + "[engines.bulet]\nfriction = 0.5\n";
+    EXPECT_TRUE(single_error(typo, "engines.bulet", 16, 10, "unknown engine; did you mean 'bullet'?"));
+    // Nothing close: most likely a program from outside the build that was never declared.
+    const std::string external = std::string(kValid) + "[engines.ode-ext]\nfriction = 0.5\n";
+    EXPECT_TRUE(single_error(external, "engines.ode-ext", 16, 10,
+                             "a simulator from outside the build is declared with --external ode-ext=COMMAND or an "
+                             "[external.ode-ext] table"));
+}
+
 TEST(ScenarioLoaderValid, EngineTablesAreRead) {
     const std::string text = std::string(kValid) +
                              "[engines.bullet]\ntangential_model = \"friction\"\nfriction = 0.25\nrotation = \"locked\"\n"

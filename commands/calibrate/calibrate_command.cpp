@@ -4,15 +4,18 @@
 
 #include "commands/calibrate/calibrate_pipeline.h"
 #include "platform/atomic_file.h"
+#include "platform/did_you_mean.h"
 #include "registry/registry.h"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace bouncecheck {
 
@@ -20,20 +23,31 @@ namespace {
 
 struct CalibrateOptions {
     std::string file;
+    std::vector<std::string> engines;  // exactly one: the list option every command shares
     std::string engine;
     double max_mu = 1.0;
     std::string against = "reference";
     bool write = false;
 };
 
-int command_calibrate(const CalibrateOptions& opt) {
+int command_calibrate(CalibrateOptions opt) {
+    std::erase(opt.engines, std::string());
+    if (opt.engines.size() != 1) {
+        fmt::print(stderr, "error: --engines: calibrate tunes one engine at a time ({} given)\n", opt.engines.size());
+        return kBadInput;
+    }
+    opt.engine = opt.engines.front();
     auto scenarios = load_all({opt.file});
     if (!scenarios) return kBadInput;
     const Scenario& s = scenarios->front();
     auto all = built_simulators();
     const auto it = std::find_if(all.begin(), all.end(), [&](const auto& sim) { return sim->name() == opt.engine; });
     if (it == all.end() || opt.engine == "reference" || opt.engine == "exact") {
-        fmt::print(stderr, "error: --engine: '{}' is not a built engine\n", opt.engine);
+        std::vector<std::string> engines;
+        for (const auto& sim : all)
+            if (sim->name() != "reference" && sim->name() != "exact") engines.push_back(std::string(sim->name()));
+        fmt::print(stderr, "error: --engines: '{}' is not a built engine{} (built: {})\n", opt.engine,
+                   did_you_mean(opt.engine, engines), fmt::join(engines, ", "));
         return kBadInput;
     }
     if (s.engine_options(opt.engine).tangential_model != TangentialModel::friction) {
@@ -72,7 +86,7 @@ Command add_calibrate_command(CLI::App& app) {
     CLI::App* command = app.add_subcommand(
         "calibrate", "Find the friction coefficient mu that brings an engine closest to the reference");
     command->add_option("scenario", opt->file, "Scenario file")->required();
-    command->add_option("--engine", opt->engine, "Engine to calibrate")->required();
+    add_list_option(*command, "--engines,--engine", opt->engines, "The engine to calibrate (one)")->required();
     command->add_option("--max-mu", opt->max_mu, "Upper end of the search")
         ->capture_default_str()
         ->check(CLI::Range(1e-3, 10.0));

@@ -1,11 +1,13 @@
 #include "commands/diff/diff_pipeline.h"
 
+#include "platform/did_you_mean.h"
 #include "reports/provenance.h"
 #include "reports/run_report.h"
 #include "reports/stress_report.h"
 #include "reports/sweep_report.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -190,9 +192,9 @@ std::optional<std::string> parse_tolerance(const std::string& arg, DiffTolerance
     const std::string key = arg.substr(0, eq), text = arg.substr(eq + 1);
     const auto it = t.by_key.find(key);
     if (it == t.by_key.end()) {
-        std::string keys;
-        for (const auto& [k, v] : t.by_key) keys += (keys.empty() ? "" : ", ") + k;
-        return fmt::format("'{}': unknown key ({})", key, keys);
+        std::vector<std::string> keys;
+        for (const auto& [k, v] : t.by_key) keys.push_back(k);
+        return fmt::format("'{}': unknown key{} ({})", key, did_you_mean(key, keys), fmt::join(keys, ", "));
     }
     char* end = nullptr;
     const double value = std::strtod(text.c_str(), &end);

@@ -1,4 +1,5 @@
-// `bouncecheck list`: the bundled scenarios and the simulators this build contains.
+// `bouncecheck list`: the bundled scenarios and the simulators this build
+// contains, as aligned columns or (--json) as one JSON document for scripts.
 #include "commands/command.h"
 
 #include "registry/registry.h"
@@ -6,31 +7,80 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <memory>
+#include <string>
+#include <vector>
 
 namespace bouncecheck {
 
 namespace {
 
-int command_list() {
-    fmt::print("bundled scenarios ({}):\n", bundled_scenario_dir().string());
+struct ListedScenario {
+    std::string name;  // the file's name when it does not load
+    int dim = 0;       // 0: invalid
+    std::string file;
+    std::string problem;  // why it does not load
+};
+
+std::vector<ListedScenario> bundled_scenarios() {
+    std::vector<ListedScenario> listed;
     for (const auto& f : scenario_files()) {
         try {
             const Scenario s = load_scenario(f);
-            fmt::print("  {:<12} {}D  {}\n", s.name, s.dim, f.filename().string());
+            listed.push_back({s.name, s.dim, f.filename().string(), {}});
         } catch (const ScenarioError& e) {
-            fmt::print("  {:<12} invalid: {}\n", f.filename().string(), e.diagnostics().front().format());
+            listed.push_back({f.filename().string(), 0, f.filename().string(), e.diagnostics().front().format()});
         }
     }
+    return listed;
+}
+
+int command_list(bool json) {
+    const auto scenarios = bundled_scenarios();
+    const auto simulators = built_simulators();
+    if (json) {
+        nlohmann::json doc = {{"scenario_dir", bundled_scenario_dir().string()},
+                              {"scenarios", nlohmann::json::array()},
+                              {"simulators", nlohmann::json::array()}};
+        for (const ListedScenario& s : scenarios) {
+            nlohmann::json entry = {{"name", s.name}, {"file", s.file}};
+            if (s.problem.empty())
+                entry["dim"] = s.dim;
+            else
+                entry["problem"] = s.problem;
+            doc["scenarios"].push_back(std::move(entry));
+        }
+        for (const auto& sim : simulators)
+            doc["simulators"].push_back({{"name", sim->name()}, {"description", sim->description()}});
+        fmt::print("{}\n", doc.dump(2));
+        return kOk;
+    }
+    // Columns as wide as their longest name, so that a long one never shifts the rest.
+    std::size_t name_width = 0;
+    for (const ListedScenario& s : scenarios) name_width = std::max(name_width, s.name.size());
+    for (const auto& sim : simulators) name_width = std::max(name_width, sim->name().size());
+    fmt::print("bundled scenarios ({}):\n", bundled_scenario_dir().string());
+    for (const ListedScenario& s : scenarios) {
+        if (s.problem.empty())
+            fmt::print("  {:<{}}  {}D  {}\n", s.name, name_width, s.dim, s.file);
+        else
+            fmt::print("  {:<{}}  invalid: {}\n", s.name, name_width, s.problem);
+    }
     fmt::print("simulators:\n");
-    for (const auto& sim : built_simulators()) fmt::print("  {:<12} {}\n", sim->name(), sim->description());
+    for (const auto& sim : simulators) fmt::print("  {:<{}}  {}\n", sim->name(), name_width, sim->description());
     return kOk;
 }
 
 }  // namespace
 
 Command add_list_command(CLI::App& app) {
+    auto json = std::make_shared<bool>(false);
     CLI::App* command = app.add_subcommand("list", "Show the bundled scenarios and the simulators built");
-    return {command, [] { return command_list(); }};
+    command->add_flag("--json", *json, "Print them as one JSON document (scenario_dir, scenarios, simulators)");
+    return {command, [json] { return command_list(*json); }};
 }
 
 }  // namespace bouncecheck

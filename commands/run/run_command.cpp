@@ -5,11 +5,13 @@
 
 #include "commands/diff/diff_pipeline.h"
 #include "commands/run/run_pipeline.h"
+#include "platform/did_you_mean.h"
 #include "registry/registry.h"
 #include "reports/run_report.h"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cmath>
 #include <cstdio>
@@ -29,7 +31,7 @@ namespace {
 
 struct RunOptions {
     std::vector<std::string> files;
-    std::string engines;
+    std::vector<std::string> engines;
     std::string out_dir = "bouncecheck-out";
     bool trajectories = false;
     bool no_timings = false;
@@ -66,7 +68,7 @@ std::optional<std::string> parse_threshold(const std::string& arg, ThresholdSet&
     }
     std::vector<std::string> keys{"bounce_count"};
     for (const ThresholdLimit& limit : kThresholdLimits) keys.emplace_back(limit.key);
-    return fmt::format("'{}': unknown key ({})", key, fmt::join(keys, ", "));
+    return fmt::format("'{}': unknown key{} ({})", key, did_you_mean(key, keys), fmt::join(keys, ", "));
     return std::nullopt;
 }
 
@@ -159,7 +161,7 @@ Command add_run_command(CLI::App& app) {
     auto opt = std::make_shared<RunOptions>();
     CLI::App* command = app.add_subcommand("run", "Run scenarios on every selected simulator and write the reports");
     command->add_option("scenarios", opt->files, "Scenario files (default: the bundled ones)");
-    command->add_option("--engines", opt->engines, "Comma-separated simulators to run (default: every one built)");
+    add_list_option(*command, "--engines", opt->engines, "Simulators to run (default: every one built)");
     command->add_option("--out", opt->out_dir, "Output folder")->capture_default_str();
     command->add_flag("--trajectories", opt->trajectories,
                       "Write DIR/<scenario>/<simulator>.csv with one row per step");
@@ -175,10 +177,9 @@ Command add_run_command(CLI::App& app) {
                         "is killed and the engine fails as hung (default: no limit; not with --in-process)")
         ->check(CLI::Range(0.001, 1e7))
         ->excludes("--in-process");
-    command->add_flag("--no-timings", opt->no_timings,
-                      "Leave run times out of every output, so that the same input gives the same bytes");
-    command->add_option("--threshold", opt->threshold_args,
-                        "KEY=VALUE: a [thresholds] limit for every simulator, over the scenario's (repeatable)");
+    add_no_timings_flag(*command, opt->no_timings);
+    add_list_option(*command, "--threshold", opt->threshold_args,
+                    "KEY=VALUE: a [thresholds] limit for every simulator, over the scenario's");
     add_external_options(*command, opt->external);
     command->add_option("--baseline", opt->baseline,
                         "Then diff against this earlier run (a report.json or output folder): exit 1 if anything "

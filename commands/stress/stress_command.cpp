@@ -5,6 +5,7 @@
 #include "commands/shards.h"
 #include "commands/stress/stress_pipeline.h"
 #include "commands/stress/stress_suite.h"
+#include "platform/did_you_mean.h"
 #include "registry/registry.h"
 #include "reports/provenance.h"
 #include "scenarios/scenario_toml.h"
@@ -30,7 +31,8 @@ namespace bouncecheck {
 namespace {
 
 struct StressOptions {
-    std::string engines;
+    std::vector<std::string> engines;
+    bool no_timings = false;  // an output choice: not in the shard's options
     int jobs = 0;  // 0: every core
     std::string out_dir = "bouncecheck-out";
     std::vector<std::string> only;  // rows or scenario names
@@ -52,7 +54,7 @@ nlohmann::json to_json(const StressOptions& o) {
 
 StressOptions stress_options_from(const nlohmann::json& j) {
     StressOptions o;
-    o.engines = j.at("engines").get<std::string>();
+    o.engines = j.at("engines").get<std::vector<std::string>>();
     o.jobs = j.at("jobs").get<int>();
     o.only = j.at("only").get<std::vector<std::string>>();
     o.budget = j.at("budget").get<double>();
@@ -100,20 +102,28 @@ std::optional<StressPlan> plan_stress(const StressOptions& opt) {
     auto scenarios = load_all(scenario_files(bundled_scenario_dir() / "stress"), extra->command_line_names());
     if (!scenarios) return std::nullopt;
     std::vector<StressCase> cases = stress_suite(*scenarios, opt.monte_carlo);
-    if (!opt.only.empty()) {
-        for (const auto& name : opt.only) {
-            const auto matches = [&](const StressCase& c) { return c.row == name || c.scenario.name == name; };
-            if (std::none_of(cases.begin(), cases.end(), matches)) {
+    std::vector<std::string> only = opt.only;
+    std::erase(only, std::string());  // "a,,b": the list's empty items
+    if (!only.empty()) {
+        const auto named = [](const StressCase& c, const std::string& name) {
+            return c.row == name || c.scenario.name == name;
+        };
+        for (const auto& name : only) {
+            if (std::none_of(cases.begin(), cases.end(), [&](const StressCase& c) { return named(c, name); })) {
                 std::set<std::string> rows;
-                for (const auto& c : cases) rows.insert(c.row);
-                fmt::print(stderr, "error: --only: no stress scenario or row '{}' (rows: {})\n", name,
-                           fmt::join(rows, ", "));
+                std::vector<std::string> names;
+                for (const auto& c : cases) {
+                    rows.insert(c.row);
+                    names.push_back(c.row);
+                    names.push_back(c.scenario.name);
+                }
+                fmt::print(stderr, "error: --only: no stress scenario or row '{}'{} (rows: {})\n", name,
+                           did_you_mean(name, names), fmt::join(rows, ", "));
                 return std::nullopt;
             }
         }
         std::erase_if(cases, [&](const StressCase& c) {
-            return std::none_of(opt.only.begin(), opt.only.end(),
-                                [&](const std::string& n) { return c.row == n || c.scenario.name == n; });
+            return std::none_of(only.begin(), only.end(), [&](const std::string& n) { return named(c, n); });
         });
     }
     StressPlan plan{std::move(*extra), built_simulators(), std::move(cases), {}};
@@ -140,8 +150,9 @@ int stress_exit_status(const StressReport& report) {
 int report_stress(StressReport report, const std::vector<StressCase>& cases, const StressOptions& opt,
                   const fs::path& out_dir, nlohmann::json parameters) {
     report.monte_carlo = opt.monte_carlo;
+    if (opt.no_timings) leave_out_timings(report);
     fmt::print("{}{}", format_stress_matrix(report), format_stress_failures(report));
-    write_stress(report, cases, parameters, out_dir, to_json(this_provenance(/*with_machine=*/true)));
+    write_stress(report, cases, parameters, out_dir, to_json(this_provenance(/*with_machine=*/!opt.no_timings)));
     fmt::print("\nwrote stress.json and stress.csv in {}\n", out_dir.string());
     return stress_exit_status(report);
 }
@@ -185,10 +196,11 @@ int command_stress(const StressOptions& opt) {
 
 }  // namespace
 
-int merge_stress(const ShardSet& shards, const fs::path& out_dir) {
+int merge_stress(const ShardSet& shards, const fs::path& out_dir, bool no_timings) {
     StressOptions opt;
     try {
         opt = stress_options_from(shards.options);
+        opt.no_timings = no_timings;
     } catch (const std::exception& e) {
         fmt::print(stderr, "error: the shards' stress options are unreadable: {}\n", e.what());
         return kBadInput;
@@ -212,14 +224,16 @@ Command add_stress_command(CLI::App& app) {
     CLI::App* command = app.add_subcommand(
         "stress", "Run the stress suite (scenarios/stress/*.toml, wall starts, a Monte-Carlo set) on every selected "
                    "simulator and check its invariants");
-    command->add_option("--engines", opt->engines, "Comma-separated simulators (default: every one built)");
+    add_list_option(*command, "--engines", opt->engines, "Simulators (default: every one built)");
     command->add_option("--jobs", opt->jobs, "Runs at once, each in a worker process (default: every core)")
         ->check(CLI::Range(1, 4096));
     command->add_option("--out", opt->out_dir, "Output folder for stress.json and stress.csv")
         ->capture_default_str();
-    command->add_option("--only", opt->only,
-                        "Only these rows (a scenario's name, monte-carlo, wall-starts) or generated scenarios")
-        ->expected(1, -1);
+    add_no_timings_flag(*command, opt->no_timings);
+    add_list_option(*command, "--only", opt->only,
+                    "Only these rows (a scenario's name, monte-carlo, wall-starts) or generated scenarios")
+        ->expected(1, -1)
+        ->allow_extra_args(true);  // space-separated too, as before lists took commas: stress has no positionals
     command->add_option("--budget", opt->budget,
                         "Wall-time budget of one run (s); a run without a result after 1.5 x budget + 1 s is killed "
                         "and reported hung")

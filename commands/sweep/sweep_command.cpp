@@ -28,7 +28,8 @@ namespace {
 
 struct SweepOptions {
     std::string file;
-    std::string engines;
+    std::vector<std::string> engines;
+    bool no_timings = false;  // an output choice: not in the shard's options
     std::string dt;
     int repeat = 3;
     int jobs = 0;  // 0: every core
@@ -52,7 +53,7 @@ nlohmann::json to_json(const SweepOptions& o) {
 SweepOptions sweep_options_from(const nlohmann::json& j) {
     SweepOptions o;
     o.file = j.at("file").get<std::string>();
-    o.engines = j.at("engines").get<std::string>();
+    o.engines = j.at("engines").get<std::vector<std::string>>();
     o.dt = j.at("dt").get<std::string>();
     o.repeat = j.at("repeat").get<int>();
     o.jobs = j.at("jobs").get<int>();
@@ -137,11 +138,13 @@ std::optional<SweepPlan> plan_sweep(const SweepOptions& opt) {
 }
 
 // The table on the terminal, and sweep.csv, sweep.json and sweep.html in `out_dir`.
-int report_sweep(const SweepResult& result, const SweepPlan& plan, const fs::path& out_dir,
-                 const nlohmann::json& parameters, double wall_seconds) {
+int report_sweep(SweepResult result, const SweepPlan& plan, const fs::path& out_dir,
+                 const nlohmann::json& parameters, double wall_seconds, bool no_timings) {
+    if (no_timings) leave_out_timings(result);
     fmt::print("{}", format_sweep(plan.scenario, result));
-    write_sweep(plan.scenario, result, parameters, out_dir, to_json(this_provenance(/*with_machine=*/true)));
-    fmt::print("\nwrote sweep.csv, sweep.json and sweep.html in {} ({:.2f} s)\n", out_dir.string(), wall_seconds);
+    write_sweep(plan.scenario, result, parameters, out_dir, to_json(this_provenance(/*with_machine=*/!no_timings)));
+    fmt::print("\nwrote sweep.csv, sweep.json and sweep.html in {}{}\n", out_dir.string(),
+               no_timings ? "" : fmt::format(" ({:.2f} s)", wall_seconds));
     const bool any_failed = std::any_of(result.rows.begin(), result.rows.end(),
                                         [](const SweepRow& r) { return r.status == RunStatus::failed; });
     return any_failed ? kSimulatorFailed : kOk;
@@ -180,12 +183,12 @@ int command_sweep(const SweepOptions& opt) {
         for (const SweepRow& row : result.rows) file.results.push_back(encode_sweep_row(row));
         write_shard_file(out_dir, file);
     }
-    return report_sweep(result, *plan, out_dir, parameters, wall);
+    return report_sweep(result, *plan, out_dir, parameters, wall, opt.no_timings);
 }
 
 }  // namespace
 
-int merge_sweep(const ShardSet& shards, const fs::path& out_dir) {
+int merge_sweep(const ShardSet& shards, const fs::path& out_dir, bool no_timings) {
     SweepOptions opt;
     try {
         opt = sweep_options_from(shards.options);
@@ -203,7 +206,8 @@ int merge_sweep(const ShardSet& shards, const fs::path& out_dir) {
         fmt::print(stderr, "error: a shard's row is unreadable: {}\n", e.what());
         return kBadInput;
     }
-    return report_sweep(result, *plan, out_dir, plan->parameters(opt, out_dir), shards.wall_seconds);
+    return report_sweep(std::move(result), *plan, out_dir, plan->parameters(opt, out_dir), shards.wall_seconds,
+                        no_timings);
 }
 
 Command add_sweep_command(CLI::App& app) {
@@ -211,8 +215,7 @@ Command add_sweep_command(CLI::App& app) {
     CLI::App* command = app.add_subcommand(
         "sweep", "Work-precision sweep: each simulator's error against exact and cost per step over a series of dt");
     command->add_option("scenario", opt->file, "Scenario file")->required();
-    command->add_option("--engines", opt->engines,
-                        "Comma-separated simulators (default: every one built but exact, the truth)");
+    add_list_option(*command, "--engines", opt->engines, "Simulators (default: every one built but exact, the truth)");
     command->add_option("--dt", opt->dt,
                         "Time steps: a list 0.03,0.015,... or FROM:TO:FACTOR (FROM, FROM/FACTOR, ... while >= TO). "
                         "Default: the scenario's dt halved down to max(1e-5, dt/2^7), capped to keep a run quick");
@@ -227,6 +230,7 @@ Command add_sweep_command(CLI::App& app) {
                         "is killed and fails as hung (default: no limit)")
         ->check(CLI::Range(0.001, 1e7));
     command->add_option("--out", opt->out_dir, "Output folder for sweep.csv, sweep.json and sweep.html")->capture_default_str();
+    add_no_timings_flag(*command, opt->no_timings);
     add_shard_option(*command, opt->shard);
     add_external_options(*command, opt->external);
     return {command, [opt] { return command_sweep(*opt); }};

@@ -29,8 +29,10 @@ std::vector<double> default_sweep_dts(double dt) {
 
 namespace {
 
-// A whole string as a finite double, or nothing.
+// A whole string as a finite double (spaces around it allowed, as in every list), or nothing.
 std::optional<double> parse_number(std::string_view text) {
+    while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
+    while (!text.empty() && text.back() == ' ') text.remove_suffix(1);
     const std::string s(text);
     if (s.empty() || std::isspace(static_cast<unsigned char>(s.front()))) return std::nullopt;
     char* end = nullptr;

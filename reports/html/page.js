@@ -453,7 +453,10 @@
       "order is the least-squares slope of log error against log dt. Circled: the Pareto front (no other run is both cheaper and more accurate)."));
     const byEngine = {};
     for (const row of sweep.rows) (byEngine[row.engine] = byEngine[row.engine] || []).push(row);
-    const usable = (r) => r.status === "ok" && r.error > 0 && r.sec_per_sim_sec > 0;
+    // A sweep run with --no-timings has no cost: its errors are plotted against dt.
+    const timed = sweep.rows.some((r) => r.sec_per_sim_sec > 0);
+    const cost = (r) => (timed ? r.sec_per_sim_sec : r.dt);
+    const usable = (r) => r.status === "ok" && r.error > 0 && cost(r) > 0;
     // Errors at round-off (an event-driven scheme's, about 1e-13 m) would set
     // the scale and squash every engine into one band: the axis starts a
     // factor 3 below the smallest error above kRoundOff, and smaller errors
@@ -465,12 +468,13 @@
     const clipped = (e) => floor !== null && e < floor;
     const traces = Object.entries(byEngine).map(([name, rows]) => {
       const ok = rows.filter(usable);
-      return { x: ok.map((r) => r.sec_per_sim_sec), y: ok.map((r) => shown(r.error)),
+      return { x: ok.map(cost), y: ok.map((r) => shown(r.error)),
                customdata: ok.map((r) => r.error),
                text: ok.map((r) => "dt = " + r.dt + (clipped(r.error) ? " (round-off: below the axis)" : "")),
                mode: "lines+markers", name: name, line: { color: colour(name) },
                marker: { symbol: ok.map((r) => (clipped(r.error) ? "triangle-down" : "circle")), size: 8 },
-               hovertemplate: "%{text}<br>cost %{x:.3g} s/s<br>error %{customdata:.3g} m<extra>" + name + "</extra>" };
+               hovertemplate: "%{text}<br>" + (timed ? "cost %{x:.3g} s/s" : "dt %{x:.3g} s") +
+                 "<br>error %{customdata:.3g} m<extra>" + name + "</extra>" };
     });
     const front = sweep.rows.filter((r) => r.pareto).sort((a, b) => a.sec_per_sim_sec - b.sec_per_sim_sec);
     traces.push({ x: front.map((r) => r.sec_per_sim_sec), y: front.map((r) => shown(r.error)),
@@ -482,8 +486,9 @@
       : [Math.log10(floor), Math.log10(Math.max(...errorsShown)) + 0.15];
     const grid = el("div", { class: "grid" });
     page.appendChild(grid);
-    addPlot(grid, "plot-sweep-work-precision", "work-precision", "Work-precision: error against cost", traces, {
-      xaxis: axisTitle("cost (s of run time per simulated s)", { type: "log", exponentformat: "power" }),
+    addPlot(grid, "plot-sweep-work-precision", "work-precision",
+            timed ? "Work-precision: error against cost" : "Error against dt (run with --no-timings: no cost)", traces, {
+      xaxis: axisTitle(timed ? "cost (s of run time per simulated s)" : "dt (s)", { type: "log", exponentformat: "power" }),
       yaxis: axisTitle("error against exact (m)", Object.assign({ type: "log", exponentformat: "power" },
                                                                yRange ? { range: yRange } : {})),
     }, true);
