@@ -14,7 +14,7 @@
 #     give no --jobs (bouncecheck's default is every core of the node, not the
 #     CPUs Slurm gave the task);
 #   - a merge job, --dependency=afterany on the array, that runs
-#       bouncecheck merge OUT OUT/shard-1 ... OUT/shard-N
+#       bouncecheck merge --out OUT OUT/shard-1 ... OUT/shard-N
 #     ("afterany", not "afterok": after a failed task an afterok job would stay
 #     pending forever on a cluster without DependencyParameters=kill_invalid_depend).
 # It then polls squeue until the merge job has left the queue (sbatch --wait
@@ -149,9 +149,9 @@ run_merge() {
     write_status "$out/merge.status" 2
     exit 2
   fi
-  echo "merge on $(uname -n), job ${SLURM_JOB_ID:-?}: $bouncecheck merge $out ${dirs[*]}"
+  echo "merge on $(uname -n), job ${SLURM_JOB_ID:-?}: $bouncecheck merge --out $out ${dirs[*]}"
   local status=0
-  "$bouncecheck" merge "$out" "${dirs[@]}" || status=$?
+  "$bouncecheck" merge --out "$out" "${dirs[@]}" || status=$?
   write_status "$out/merge.status" "$status"
   if has_result "$status"; then exit 0; fi
   exit "$status"
