@@ -50,11 +50,6 @@ void add_no_timings_flag(CLI::App& command, bool& no_timings) {
                      "the same input gives the same bytes");
 }
 
-fs::path bundled_scenario_dir() {
-    if (const char* dir = std::getenv("BOUNCECHECK_SCENARIOS")) return dir;
-    return BOUNCECHECK_SCENARIO_DIR;
-}
-
 std::vector<fs::path> scenario_files(const fs::path& dir) {
     std::vector<fs::path> files;
     std::error_code ec;

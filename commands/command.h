@@ -5,6 +5,7 @@
 // pipeline beside it; cli/main.cpp lists them.
 #pragma once
 
+#include "platform/install_layout.h"  // bundled_scenario_dir
 #include "external/external_simulator.h"
 #include "scenarios/scenario.h"
 #include "simulators/simulator.h"
@@ -52,8 +53,6 @@ struct DiffJudging;
 // --tolerance and --timing-ratio, for `diff` and `run --baseline` (`what` prefixes their help).
 void add_diff_judging_options(CLI::App& command, DiffJudging& judging, const std::string& what = "");
 
-// The folder of the bundled scenarios ($BOUNCECHECK_SCENARIOS, or the source tree's).
-std::filesystem::path bundled_scenario_dir();
 // The *.toml files directly in `dir` (default: the bundled folder), by name.
 std::vector<std::filesystem::path> scenario_files(const std::filesystem::path& dir = bundled_scenario_dir());
 // Loads every file before anything runs; prints every diagnostic. Empty on

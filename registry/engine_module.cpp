@@ -1,5 +1,7 @@
 #include "registry/engine_module.h"
 
+#include "platform/install_layout.h"
+
 #include <dlfcn.h>
 #include <fmt/format.h>
 
@@ -20,8 +22,10 @@ struct Loaded {
     std::string why_not;  // when there is no engine
 };
 
+std::string module_name(std::string_view folder) { return fmt::format("bouncecheck-engine-{}.so", folder); }
+
 Loaded load(std::string_view module, std::string_view entry) {
-    const std::string path = fmt::format("{}/{}", BOUNCECHECK_ENGINE_MODULE_DIR, module);
+    const std::string path = (engine_module_dir() / module).string();
     // RTLD_NOW: a symbol missing from the module fails here, with its name,
     // not in the middle of a run.
     void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
@@ -46,7 +50,7 @@ class EngineInModule final : public Simulator {
 public:
     EngineInModule(const EngineIdentity& identity, std::string_view folder)
         : identity_(identity),
-          module_(fmt::format("bouncecheck-engine-{}.so", folder)),
+          module_(module_name(folder)),
           entry_(fmt::format("bouncecheck_engine_{}", identity.name)) {
         std::replace(entry_.begin(), entry_.end(), '-', '_');
     }
@@ -82,5 +86,7 @@ private:
 std::unique_ptr<const Simulator> engine_in_module(const EngineIdentity& identity, std::string_view folder) {
     return std::make_unique<EngineInModule>(identity, folder);
 }
+
+std::filesystem::path engine_module_file(std::string_view folder) { return engine_module_dir() / module_name(folder); }
 
 }  // namespace bouncecheck

@@ -11,6 +11,7 @@
 #include "engines/engine.h"
 #include "simulators/simulator.h"
 
+#include <filesystem>
 #include <memory>
 #include <string_view>
 
@@ -22,5 +23,7 @@ namespace bouncecheck {
 // as '_') makes it. If the module cannot be loaded, or has no such entry,
 // the engine cannot run anything, and says why.
 std::unique_ptr<const Simulator> engine_in_module(const EngineIdentity& identity, std::string_view folder);
+// The module file of the adapter in engines/`folder`/, where it is looked for.
+std::filesystem::path engine_module_file(std::string_view folder);
 
 }  // namespace bouncecheck

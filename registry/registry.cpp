@@ -27,33 +27,56 @@
 
 namespace bouncecheck {
 
+namespace {
+
+// Each engine this build has, and the folder of its adapter (its module's name).
+struct BuiltEngine {
+    const EngineIdentity* identity;
+    const char* folder;
+};
+
+constexpr BuiltEngine kBuiltEngines[] = {
+#ifdef BOUNCECHECK_WITH_BULLET
+    {&bullet::kIdentity, "bullet"},
+#endif
+#ifdef BOUNCECHECK_WITH_ODE
+    {&ode::kIdentity, "ode"},
+#endif
+#ifdef BOUNCECHECK_WITH_BOX2D
+    {&box2d::kIdentity, "box2d"},
+#endif
+#ifdef BOUNCECHECK_WITH_MUJOCO
+    {&mujoco::kIdentity, "mujoco"},
+#endif
+#ifdef BOUNCECHECK_WITH_CHIPMUNK
+    {&chipmunk::kIdentity, "chipmunk"},
+#endif
+#ifdef BOUNCECHECK_WITH_SICONOS
+    {&siconos::kTimeSteppingIdentity, "siconos"},
+    {&siconos::kEventDrivenIdentity, "siconos"},
+#endif
+#ifdef BOUNCECHECK_WITH_DART
+    {&dartsim::kIdentity, "dart"},
+#endif
+    {nullptr, nullptr},  // so that a build without engines has a table
+};
+
+}  // namespace
+
 std::vector<std::unique_ptr<const Simulator>> built_simulators() {
     std::vector<std::unique_ptr<const Simulator>> all;
     all.push_back(make_reference_simulator());
     all.push_back(make_exact_simulator());
-#ifdef BOUNCECHECK_WITH_BULLET
-    all.push_back(engine_in_module(bullet::kIdentity, "bullet"));
-#endif
-#ifdef BOUNCECHECK_WITH_ODE
-    all.push_back(engine_in_module(ode::kIdentity, "ode"));
-#endif
-#ifdef BOUNCECHECK_WITH_BOX2D
-    all.push_back(engine_in_module(box2d::kIdentity, "box2d"));
-#endif
-#ifdef BOUNCECHECK_WITH_MUJOCO
-    all.push_back(engine_in_module(mujoco::kIdentity, "mujoco"));
-#endif
-#ifdef BOUNCECHECK_WITH_CHIPMUNK
-    all.push_back(engine_in_module(chipmunk::kIdentity, "chipmunk"));
-#endif
-#ifdef BOUNCECHECK_WITH_SICONOS
-    all.push_back(engine_in_module(siconos::kTimeSteppingIdentity, "siconos"));
-    all.push_back(engine_in_module(siconos::kEventDrivenIdentity, "siconos"));
-#endif
-#ifdef BOUNCECHECK_WITH_DART
-    all.push_back(engine_in_module(dartsim::kIdentity, "dart"));
-#endif
+    for (const BuiltEngine& engine : kBuiltEngines)
+        if (engine.identity) all.push_back(engine_in_module(*engine.identity, engine.folder));
     return all;
+}
+
+std::vector<EngineModule> engine_modules() {
+    std::vector<EngineModule> modules;
+    for (const BuiltEngine& engine : kBuiltEngines)
+        if (engine.identity) modules.push_back({std::string(engine.identity->name), engine_module_file(engine.folder)});
+    return modules;
 }
 
 }  // namespace bouncecheck

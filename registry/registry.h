@@ -4,11 +4,21 @@
 
 #include "simulators/simulator.h"
 
+#include <filesystem>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace bouncecheck {
 
 std::vector<std::unique_ptr<const Simulator>> built_simulators();
+
+// Where each engine's module is loaded from (platform/install_layout.h), in
+// built_simulators' order; the file may be missing (then the engine says so).
+struct EngineModule {
+    std::string simulator;
+    std::filesystem::path file;
+};
+std::vector<EngineModule> engine_modules();
 
 }  // namespace bouncecheck

@@ -1,5 +1,6 @@
-// `bouncecheck list`: the bundled scenarios and the simulators this build
-// contains, as aligned columns or (--json) as one JSON document for scripts.
+// `bouncecheck list`: the bundled scenarios, the simulators this build
+// contains and where each engine's module is loaded from, as aligned columns
+// or (--json) as one JSON document for scripts.
 #include "commands/command.h"
 
 #include "registry/registry.h"
@@ -10,9 +11,13 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <filesystem>
+#include <system_error>
 #include <memory>
 #include <string>
 #include <vector>
+
+namespace fs = std::filesystem;
 
 namespace bouncecheck {
 
@@ -38,9 +43,16 @@ std::vector<ListedScenario> bundled_scenarios() {
     return listed;
 }
 
+// "" for a file that is there, else why the engine cannot load it.
+std::string module_problem(const fs::path& file) {
+    std::error_code ec;
+    return fs::is_regular_file(file, ec) ? std::string() : "missing";
+}
+
 int command_list(bool json) {
     const auto scenarios = bundled_scenarios();
     const auto simulators = built_simulators();
+    const auto modules = engine_modules();
     if (json) {
         nlohmann::json doc = {{"scenario_dir", bundled_scenario_dir().string()},
                               {"scenarios", nlohmann::json::array()},
@@ -53,8 +65,15 @@ int command_list(bool json) {
                 entry["problem"] = s.problem;
             doc["scenarios"].push_back(std::move(entry));
         }
-        for (const auto& sim : simulators)
-            doc["simulators"].push_back({{"name", sim->name()}, {"description", sim->description()}});
+        for (const auto& sim : simulators) {
+            nlohmann::json entry = {{"name", sim->name()}, {"description", sim->description()}};
+            for (const EngineModule& m : modules)
+                if (m.simulator == sim->name()) {
+                    entry["module"] = m.file.string();
+                    entry["module_found"] = module_problem(m.file).empty();
+                }
+            doc["simulators"].push_back(std::move(entry));
+        }
         fmt::print("{}\n", doc.dump(2));
         return kOk;
     }
@@ -71,6 +90,14 @@ int command_list(bool json) {
     }
     fmt::print("simulators:\n");
     for (const auto& sim : simulators) fmt::print("  {:<{}}  {}\n", sim->name(), name_width, sim->description());
+    if (!modules.empty()) {
+        fmt::print("engine modules ({}):\n", engine_module_dir().string());
+        for (const EngineModule& m : modules) {
+            const std::string problem = module_problem(m.file);
+            fmt::print("  {:<{}}  {}{}\n", m.simulator, name_width, m.file.filename().string(),
+                       problem.empty() ? "" : "  (" + problem + ")");
+        }
+    }
     return kOk;
 }
 
