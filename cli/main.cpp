@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
     set_command_line(argc, argv);            // for the reports' provenance
     CLI::App app{"bouncecheck: cross-checks physics engines against the seed document's bouncing-ball model"};
     app.require_subcommand(1);
-    app.set_version_flag("--version", std::string(BOUNCECHECK_VERSION));
+    app.set_version_flag("--version", "bouncecheck " + std::string(BOUNCECHECK_VERSION));
     app.footer(kHelpFooter);
 
     // In the order `bouncecheck --help` lists them.

@@ -2,8 +2,13 @@
 # Proves the README's quick start from scratch: its two commands, exactly as
 # the README's "Quick start" block writes them, in a clone of this
 # repository's HEAD inside a minimal Debian 12 root (debootstrap
-# --variant=minbase bookworm), as root. Prints each command's wall time and
-# exit status; exits 1 if either failed, 2 on a usage or set-up problem.
+# --variant=minbase bookworm), as root. Then the package: scripts/package.sh
+# in that root builds the .deb, and a second fresh root installs it with apt
+# (which pulls in its dependencies) and runs the installed
+# /usr/bin/bouncecheck on the installed bundled scenarios: exit 0, every
+# engine module found under /usr/lib/bouncecheck, none failing to load.
+# Prints each command's wall time and exit status; exits 1 if any failed, 2
+# on a usage or set-up problem.
 #
 #   scripts/cleanroom.sh
 #
@@ -36,8 +41,9 @@ set -euo pipefail
 SUITE=bookworm
 CACHE="${CLEANROOM_CACHE:-/var/cache/bouncecheck-cleanroom}"
 WORK_PARENT="${CLEANROOM_WORK:-/var/tmp}"
-WORK=""      # this run's folder; ROOTFS is the root inside it
-ROOTFS=""
+WORK=""      # this run's folder; the roots are inside it
+ROOTFS=""    # the quick start's root
+ROOTS=()     # every root made, for cleanup
 MOUNTED=()   # mount points made in the root, in order
 
 say() { echo "cleanroom: $*"; }
@@ -126,22 +132,23 @@ bootstrap_root() {
 # folder only if nothing is left mounted under it.
 cleanup() {
   local link pid i
-  if [ -n "$ROOTFS" ]; then
+  local r
+  for r in "${ROOTS[@]}"; do
     for link in /proc/[0-9]*/root; do
-      [ "$(readlink "$link" 2>/dev/null)" = "$ROOTFS" ] || continue
+      [ "$(readlink "$link" 2>/dev/null)" = "$r" ] || continue
       pid="${link#/proc/}"
       kill -KILL "${pid%/root}" 2>/dev/null || true
     done
-  fi
+  done
   for ((i = ${#MOUNTED[@]} - 1; i >= 0; i--)); do
     umount -R "${MOUNTED[i]}" 2>/dev/null || umount -R -l "${MOUNTED[i]}" 2>/dev/null || true
   done
   remove_tree "$WORK" || true
 }
 
-# Runs $1 in the root from the clone, timed; appends a line to RESULTS.
+# Runs $3 in the root $1 from its folder $2, timed; appends a line to RESULTS.
 run_in_root() {
-  local command="$1" started seconds status=0 environment var
+  local rootfs="$1" dir="$2" command="$3" started seconds status=0 environment var
   environment=(HOME=/root LANG=C.UTF-8 TERM="${TERM:-dumb}" PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin)
   for var in http_proxy https_proxy no_proxy HTTP_PROXY HTTPS_PROXY NO_PROXY; do
     [ -z "${!var:-}" ] || environment+=("$var=${!var}")
@@ -150,15 +157,55 @@ run_in_root() {
   started=$(date +%s.%N)
   # In the background and waited for, so that a signal to this script is
   # handled at once (cleanup stops what runs in the root), not after it.
-  chroot "$ROOTFS" /usr/bin/env -i "${environment[@]}" /bin/bash -c "cd /root/bouncecheck && $command" &
+  chroot "$rootfs" /usr/bin/env -i "${environment[@]}" /bin/bash -c "cd $dir && $command" &
   wait $! || status=$?
   seconds=$(echo "$(date +%s.%N) $started" | awk '{ printf "%.0f", $1 - $2 }')
-  RESULTS+=("$(printf '%-16s exit %d  %d min %02d s' "$command" "$status" $((seconds / 60)) $((seconds % 60)))")
+  RESULTS+=("$(printf '%-16s exit %d  %d min %02d s' "${4:-$command}" "$status" $((seconds / 60)) $((seconds % 60)))")
   return "$status"
 }
 
+# A fresh root at $1 from the tarball $2, with what it takes from this
+# machine (see the opening comment) and /proc, /sys and /dev mounted.
+make_root() {
+  local rootfs="$1" tarball="$2" crt fs carried=()
+  mkdir -p "$rootfs"
+  ROOTS+=("$rootfs")
+  tar -C "$rootfs" --numeric-owner -xzf "$tarball"
+  cp -L /etc/resolv.conf "$rootfs/etc/resolv.conf"
+  for crt in /usr/local/share/ca-certificates/*.crt; do
+    [ -f "$crt" ] || continue
+    mkdir -p "$rootfs/usr/local/share/ca-certificates"
+    cp "$crt" "$rootfs/usr/local/share/ca-certificates/"
+    carried+=("$crt")
+  done
+  [ ! -f /etc/npmrc ] || { cp /etc/npmrc "$rootfs/etc/npmrc"; carried+=(/etc/npmrc); }
+  ((${#carried[@]} == 0)) || say "carried into $rootfs: ${carried[*]}"
+  for fs in proc sys dev; do
+    mkdir -p "$rootfs/$fs"
+    MOUNTED+=("$rootfs/$fs")
+    mount --rbind "/$fs" "$rootfs/$fs"
+    mount --make-rslave "$rootfs/$fs"  # unmounting ours must not unmount the machine's
+  done
+  if [ -n "${CLEANROOM_APT_CACHE:-}" ]; then
+    mkdir -p "$CLEANROOM_APT_CACHE"
+    MOUNTED+=("$rootfs/var/cache/apt/archives")
+    mount --bind "$CLEANROOM_APT_CACHE" "$rootfs/var/cache/apt/archives"
+  fi
+}
+
+# In the installed root: the package's own binary, modules and scenarios.
+INSTALLED_CHECK='set -e
+bouncecheck list > list.txt
+grep -q "^engine modules (/usr/lib/bouncecheck/engines):" list.txt || { cat list.txt; echo "modules not under /usr/lib/bouncecheck"; exit 1; }
+! grep -q "(missing)" list.txt || { cat list.txt; echo "an engine module is missing"; exit 1; }
+grep -q "^bundled scenarios (/usr/share/bouncecheck/scenarios):" list.txt || { cat list.txt; exit 1; }
+bouncecheck run --out out > run.txt 2>&1 || { status=$?; cat run.txt; exit $status; }
+! grep -q "cannot load" run.txt || { cat run.txt; echo "an engine did not load"; exit 1; }
+test -f out/report.html && test -f /usr/share/man/man1/bouncecheck.1.gz
+echo "installed bouncecheck: every module under /usr/lib/bouncecheck/engines, the bundled run exit 0"'
+
 main() {
-  local root commands tarball crt carried=() fs failed=0
+  local root commands tarball fs failed=0 deb
   root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
   (($# == 0)) || die "usage: scripts/cleanroom.sh (no arguments; see its opening comment)"
   [ "$(id -u)" -eq 0 ] || die "must run as root (debootstrap, chroot and mount need it)"
@@ -185,38 +232,27 @@ main() {
   # A fresh root for this run.
   WORK="$(mktemp -d "$WORK_PARENT/bouncecheck-cleanroom.XXXXXX")"
   ROOTFS="$WORK/root"
-  mkdir -p "$ROOTFS"
-  tar -C "$ROOTFS" --numeric-owner -xzf "$tarball"
-  cp -L /etc/resolv.conf "$ROOTFS/etc/resolv.conf"
-  for crt in /usr/local/share/ca-certificates/*.crt; do
-    [ -f "$crt" ] || continue
-    mkdir -p "$ROOTFS/usr/local/share/ca-certificates"
-    cp "$crt" "$ROOTFS/usr/local/share/ca-certificates/"
-    carried+=("$crt")
-  done
-  [ ! -f /etc/npmrc ] || { cp /etc/npmrc "$ROOTFS/etc/npmrc"; carried+=(/etc/npmrc); }
-  ((${#carried[@]} == 0)) || say "carried into the root: ${carried[*]}"
-
+  make_root "$ROOTFS" "$tarball"
   git clone -q "$root" "$ROOTFS/root/bouncecheck"
   say "clone of $(git -C "$ROOTFS/root/bouncecheck" rev-parse --short HEAD) at /root/bouncecheck in a fresh root ($WORK)"
 
-  for fs in proc sys dev; do
-    mkdir -p "$ROOTFS/$fs"
-    MOUNTED+=("$ROOTFS/$fs")
-    mount --rbind "/$fs" "$ROOTFS/$fs"
-    mount --make-rslave "$ROOTFS/$fs"  # unmounting ours must not unmount the machine's
-  done
-  if [ -n "${CLEANROOM_APT_CACHE:-}" ]; then
-    mkdir -p "$CLEANROOM_APT_CACHE"
-    MOUNTED+=("$ROOTFS/var/cache/apt/archives")
-    mount --bind "$CLEANROOM_APT_CACHE" "$ROOTFS/var/cache/apt/archives"
-  fi
-
   RESULTS=()
   for command in "${commands[@]}"; do
-    run_in_root "$command" || failed=1
+    run_in_root "$ROOTFS" /root/bouncecheck "$command" || failed=1
   done
-  say "the README's quick start on a fresh Debian 12 ($SUITE minbase):"
+  # The package, built where the quick start built, installed in a second fresh root.
+  if ((failed == 0)) && run_in_root "$ROOTFS" /root/bouncecheck scripts/package.sh; then
+    deb="$(ls "$ROOTFS"/root/bouncecheck/build/bouncecheck_*.deb | head -n 1)"
+    make_root "$WORK/installed" "$tarball"
+    cp "$deb" "$WORK/installed/root/"
+    run_in_root "$WORK/installed" /root "apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \
+      --no-install-recommends ./$(basename "$deb") > apt.log 2>&1 || { tail -n 30 apt.log; exit 1; }" \
+      "apt-get install ./$(basename "$deb")" || failed=1
+    ((failed == 0)) && { run_in_root "$WORK/installed" /root "$INSTALLED_CHECK" "installed bouncecheck run" || failed=1; }
+  else
+    failed=1
+  fi
+  say "the README's quick start and the package on a fresh Debian 12 ($SUITE minbase):"
   printf '  %s\n' "${RESULTS[@]}"
   ((failed == 0)) || { say "FAILED"; exit 1; }
   say "passed"
