@@ -35,6 +35,27 @@ nlohmann::json threshold_set_json(const ThresholdSet& t) {
     return j;
 }
 
+// Each [engines.<name>] table as the file gives it (every key, a default
+// where the file leaves one out; an external's table as written), so that
+// `diff` names a changed setting as the file writes it.
+nlohmann::json engines_json(const Scenario& s) {
+    nlohmann::json engines = nlohmann::json::object();
+    for (const auto& [name, o] : s.engines) {
+        nlohmann::json table = {
+            {"tangential_model", o.tangential_model == TangentialModel::per_contact ? "per-contact" : "friction"},
+            {"rotation", o.free_rotation ? "free" : "locked"},
+            {"substeps", o.substeps}};
+        if (o.tangential_model == TangentialModel::friction) table["friction"] = json_number(o.friction);
+        if (o.ccd) table["ccd"] = *o.ccd;
+        engines[name] = std::move(table);
+    }
+    for (const auto& [name, text] : s.passthrough_tables) {
+        nlohmann::json table = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+        engines[name] = table.is_discarded() ? nlohmann::json(nullptr) : std::move(table);  // the loader checked it
+    }
+    return engines;
+}
+
 nlohmann::json scenario_json(const Scenario& s) {
     nlohmann::json overrides = nlohmann::json::object();
     for (const auto& [name, set] : s.thresholds.simulator) overrides[name] = threshold_set_json(set);
@@ -51,6 +72,7 @@ nlohmann::json scenario_json(const Scenario& s) {
         {"beta", json_number(s.beta)},
         {"dt", json_number(s.dt)},
         {"duration", json_number(s.duration)},
+        {"engines", engines_json(s)},
         {"thresholds", {{"all", threshold_set_json(s.thresholds.all)}, {"simulators", overrides}}},
     };
 }

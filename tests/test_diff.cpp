@@ -76,7 +76,71 @@ TEST(Diff, SettingsAndVerdictsCountAnyChange) {
     const ReportDiff d = diff(report(), b);
     std::set<std::string> metrics;
     for (const DiffChange& c : d.changes) metrics.insert(c.metric);
-    EXPECT_EQ(metrics, (std::set<std::string>{"setting friction", "threshold trajectory_rms", "damping verdict"}));
+    EXPECT_EQ(metrics, (std::set<std::string>{"friction", "threshold trajectory_rms", "damping verdict"}));
+    // The setting comes first, and no input of the scenario explains it.
+    ASSERT_EQ(d.in(DiffSection::setting).size(), 1u);
+    EXPECT_EQ(d.changes[0].section, DiffSection::setting);
+    EXPECT_EQ(d.changes[0].cause, "");
+    EXPECT_NE(format_diff(d).find("friction  0.1 -> 0.2  (no input changed: the build or the engine did)"),
+              std::string::npos)
+        << format_diff(d);
+}
+
+// The cause first: the inputs as the scenario file writes them, then the
+// settings with the input that explains each, then the consequences grouped
+// per simulator and kind with a count and the largest change.
+TEST(Diff, NamesTheInputsFirstThenTheSettingsThenGroupsTheConsequences) {
+    json a = report(0.5), b = report(0.7, "0.2");
+    a["scenarios"][0]["scenario"]["alpha"] = 0.8;
+    b["scenarios"][0]["scenario"]["alpha"] = 0.7;
+    a["scenarios"][0]["scenario"]["engines"] = {{"a", {{"friction", 0.1}}}};
+    b["scenarios"][0]["scenario"]["engines"] = {{"a", {{"friction", 0.2}}}};
+    for (double h : {0.4, 0.3, 0.2}) {
+        a["scenarios"][0]["simulators"][0]["apexes"].push_back({{"t", 2.0}, {"height", h}});
+        b["scenarios"][0]["simulators"][0]["apexes"].push_back({{"t", 2.0}, {"height", h - 0.01}});
+    }
+    b["scenarios"][0]["simulators"][0]["run_seconds"] = 0.02;
+    const ReportDiff d = diff(a, b);
+    const auto inputs = d.in(DiffSection::input);
+    ASSERT_EQ(inputs.size(), 2u);
+    EXPECT_EQ(inputs[0]->metric, "[damping] normal");
+    EXPECT_EQ(inputs[1]->metric, "[engines.a] friction");
+    const auto settings = d.in(DiffSection::setting);
+    ASSERT_EQ(settings.size(), 1u);
+    EXPECT_EQ(settings[0]->cause, "[engines.a] friction") << "its own engine's table explains it first";
+    EXPECT_EQ(d.in(DiffSection::consequence).size(), 4u);  // four apex heights
+
+    const std::string text = format_diff(d);
+    const auto at = [&](const std::string& what) { return text.find(what); };
+    ASSERT_NE(at("inputs changed (2)"), std::string::npos) << text;
+    EXPECT_LT(at("inputs changed"), at("settings changed")) << text;
+    EXPECT_LT(at("settings changed"), at("consequences")) << text;
+    EXPECT_NE(at("s  [damping] normal  0.8 -> 0.7"), std::string::npos) << text;
+    EXPECT_NE(at("(follows [engines.a] friction)"), std::string::npos) << text;
+    // One line for the group, with its count and its largest change.
+    EXPECT_NE(at("s / a  apex heights: 4 changed; largest apex[1].height 0.5 -> 0.7 (+2.000e-01)"), std::string::npos)
+        << text;
+    EXPECT_EQ(at("apex[3].height"), std::string::npos) << "not one by one without --all:\n" << text;
+    // Timings only when asked for; a count of them otherwise.
+    EXPECT_EQ(at("ms ->"), std::string::npos) << text;
+    EXPECT_NE(at("1 timing compared, not judged (--timings shows them)"), std::string::npos) << text;
+
+    const std::string all = format_diff(d, {/*all=*/true, /*timings=*/true});
+    for (const char* each : {"apex[1].height", "apex[2].height", "apex[3].height", "apex[4].height"})
+        EXPECT_NE(all.find(each), std::string::npos) << each << "\n" << all;
+    EXPECT_NE(all.find("ms ->"), std::string::npos) << all;
+    // diff.md: the sections; diff.json: every change with its section, and the groups.
+    const std::string md = diff_markdown(d);
+    EXPECT_NE(md.find("## Inputs changed (2)"), std::string::npos) << md;
+    EXPECT_NE(md.find("| s | `[damping] normal` | 0.8 | 0.7 |"), std::string::npos) << md;
+    EXPECT_NE(md.find("| s / a | apex heights | 4 | apex[1].height |"), std::string::npos) << md;
+    const json j = diff_json(d);
+    EXPECT_EQ(j["changes"].size(), 7u);
+    EXPECT_EQ(j["changes"][0]["section"], "input");
+    EXPECT_EQ(j["changes"][2]["section"], "setting");
+    EXPECT_EQ(j["changes"][2]["cause"], "[engines.a] friction");
+    ASSERT_EQ(j["consequence_groups"].size(), 1u);
+    EXPECT_EQ(j["consequence_groups"][0]["count"], 4);
 }
 
 TEST(Diff, SimulatorsAndScenariosThatAppearOrDisappear) {
@@ -201,13 +265,22 @@ TEST_F(DiffInput, TwoRunsOfTheSameInputDifferInNothingAndAChangedSettingIsNamed)
     EXPECT_EQ(r.status, 1) << r.output;
     const json e = json::parse(slurp(dir_ / "e" / "diff.json"));
     std::set<std::string> simulators, metrics;
-    for (const json& c : e["changes"]) simulators.insert(c["simulator"]), metrics.insert(c["metric"]);
+    for (const json& c : e["changes"]) {
+        if (c["section"] == "input") continue;  // the scenario's, not a simulator's
+        simulators.insert(c["simulator"].get<std::string>());
+        metrics.insert(c["metric"].get<std::string>());
+    }
     EXPECT_EQ(simulators, std::set<std::string>{"bullet"}) << e.dump(1);
-    EXPECT_TRUE(metrics.count("setting ball.friction")) << e.dump(1);  // Bullet's key for the ball's mu
+    // The input as the file writes it comes first; then Bullet's key for the ball's mu, with its cause.
+    EXPECT_EQ(e["changes"][0]["section"], "input");
+    EXPECT_EQ(e["changes"][0]["metric"], "[engines.bullet] friction");
+    EXPECT_EQ(e["changes"][0]["new"], "0.02");
+    EXPECT_TRUE(metrics.count("ball.friction")) << e.dump(1);
     EXPECT_TRUE(metrics.count("apex[2].height")) << e.dump(1);
     EXPECT_TRUE(metrics.count("trajectory rms vs_reference")) << e.dump(1);
-    EXPECT_NE(r.output.find("bullet"), std::string::npos);
-    EXPECT_NE(slurp(dir_ / "e" / "diff.md").find("| seed-3d | bullet | setting ball.friction |"), std::string::npos);
+    EXPECT_LT(r.output.find("[engines.bullet] friction"), r.output.find("ball.friction")) << r.output;
+    EXPECT_NE(r.output.find("(follows [engines.bullet] friction)"), std::string::npos) << r.output;
+    EXPECT_NE(slurp(dir_ / "e" / "diff.md").find("| seed-3d | bullet | ball.friction |"), std::string::npos);
 }
 
 TEST_F(DiffInput, ReportsCarryProvenanceAndNoTimingsLeavesTheMachineOut) {

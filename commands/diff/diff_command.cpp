@@ -40,8 +40,8 @@ int command_diff(const DiffOptions& opt) {
     if (!ok || !create_out_dir(opt.out_dir)) return kBadInput;
     const ReportDiff diff = diff_reports(std::get<LoadedReport>(old_report), std::get<LoadedReport>(new_report),
                                          *tolerances, opt.judging.ratio());
-    fmt::print("{}", format_diff(diff));
-    write_diff(diff, opt.out_dir);
+    fmt::print("{}", format_diff(diff, opt.judging.display));
+    write_diff(diff, opt.out_dir, opt.judging.display);
     fmt::print("\nwrote diff.md and diff.json in {}\n", opt.out_dir);
     return diff.changed() ? kThresholdExceeded : kOk;
 }
@@ -49,19 +49,23 @@ int command_diff(const DiffOptions& opt) {
 }  // namespace
 
 void add_diff_judging_options(CLI::App& command, DiffJudging& judging, const std::string& what) {
-    command.add_option("--tolerance", judging.tolerance_args,
-                       what + "KEY=VALUE: the change a kind of metric may make unnoticed (height, time, trajectory, "
-                              "damping, state; default 1e-9 each) (repeatable)");
+    add_list_option(command, "--tolerance", judging.tolerance_args,
+                    what + "KEY=VALUE: the change a kind of metric may make unnoticed (height, time, trajectory, "
+                           "damping, state; default 1e-9 each)");
     command.add_option("--timing-ratio", judging.timing_ratio,
                        what + "count a run time above R times the old one as a regression (default: timings are "
                               "reported, not judged)")
         ->check(CLI::PositiveNumber);
+    command.add_flag("--all", judging.display.all,
+                     what + "list every consequence, not only each group's count and largest change");
+    command.add_flag("--timings", judging.display.timings,
+                     what + "show the run times compared (without it only a regression past --timing-ratio shows)");
 }
 
 Command add_diff_command(CLI::App& app) {
     auto opt = std::make_shared<DiffOptions>();
     CLI::App* command = app.add_subcommand(
-        "diff", "What changed between two runs: every change beyond tolerance, per scenario and simulator");
+        "diff", "What changed between two runs: the inputs, the settings, then the consequences per simulator");
     command->add_option("old", opt->old_path, "The baseline: a report.json, or a run's output folder")->required();
     command->add_option("new", opt->new_path, "The run to compare with it: a report.json or output folder")->required();
     add_diff_judging_options(*command, opt->judging);

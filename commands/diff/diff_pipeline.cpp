@@ -46,35 +46,43 @@ std::string show(const json& v) {
     return v.dump();
 }
 
-// Compares one scenario's simulator, field by field, into `out`.
+// Compares one scenario (its inputs) or one of its simulators, field by field, into `out`.
 class Differ {
 public:
     Differ(const DiffTolerances& tolerances, ReportDiff& out, std::string scenario, std::string simulator)
         : tolerances_(tolerances), out_(out), scenario_(std::move(scenario)), simulator_(std::move(simulator)) {}
 
-    // Any difference at all counts (statuses, counts, verdicts, settings).
-    void exact(const std::string& metric, const json& a, const json& b) {
+    // Any difference at all counts (inputs, statuses, counts, verdicts, settings).
+    void exact(DiffSection section, const std::string& kind, const std::string& metric, const json& a, const json& b) {
         if (a.is_discarded() && b.is_discarded()) return;
-        if (a.is_discarded() != b.is_discarded() || a != b) push(metric, a, b, "", std::nullopt);
+        if (a.is_discarded() != b.is_discarded() || a != b) push(section, kind, metric, a, b, "", std::nullopt);
+    }
+    void exact(const std::string& kind, const std::string& metric, const json& a, const json& b) {
+        exact(DiffSection::consequence, kind, metric, a, b);
     }
 
-    // A number: a change beyond the tolerance `key` counts; null (not
-    // finite) or absent on one side only counts too.
-    void number(const std::string& metric, const std::string& key, const json& a, const json& b) {
+    // A consequence that is a number: a change beyond the tolerance `key`
+    // counts; null (not finite) or absent on one side only counts too.
+    void number(const std::string& kind, const std::string& metric, const std::string& key, const json& a,
+                const json& b) {
         if (a.is_number() && b.is_number()) {
             const double delta = b.get<double>() - a.get<double>();
-            if (std::abs(delta) > tolerances_.by_key.at(key)) push(metric, a, b, key, delta);
+            if (std::abs(delta) > tolerances_.by_key.at(key))
+                push(DiffSection::consequence, kind, metric, a, b, key, delta);
             return;
         }
         if (a.is_discarded() && b.is_discarded()) return;
         if (a.is_null() && b.is_null()) return;
-        push(metric, a, b, key, std::nullopt);
+        push(DiffSection::consequence, kind, metric, a, b, key, std::nullopt);
     }
 
 private:
-    void push(const std::string& metric, const json& a, const json& b, const std::string& key,
-              std::optional<double> delta) {
-        out_.changes.push_back({scenario_, simulator_, metric, show(a), show(b), key, delta});
+    void push(DiffSection section, const std::string& kind, const std::string& metric, const json& a, const json& b,
+              const std::string& key, std::optional<double> delta) {
+        std::optional<double> numeric = delta;
+        if (!numeric && section != DiffSection::consequence && a.is_number() && b.is_number())
+            numeric = b.get<double>() - a.get<double>();
+        out_.changes.push_back({section, scenario_, simulator_, metric, kind, show(a), show(b), key, numeric, {}});
     }
 
     const DiffTolerances& tolerances_;
@@ -90,57 +98,120 @@ std::map<std::string, json> by_key(const json& array, const char* key, const cha
     return out;
 }
 
-void diff_maps(Differ& d, const std::string& prefix, const std::map<std::string, json>& a,
-               const std::map<std::string, json>& b) {
+void diff_maps(Differ& d, DiffSection section, const std::string& kind, const std::string& prefix,
+               const std::map<std::string, json>& a, const std::map<std::string, json>& b) {
     std::set<std::string> keys;
     for (const auto& [k, v] : a) keys.insert(k);
     for (const auto& [k, v] : b) keys.insert(k);
     for (const std::string& k : keys) {
         const auto ia = a.find(k), ib = b.find(k);
-        d.exact(prefix + k, ia == a.end() ? kAbsent : ia->second, ib == b.end() ? kAbsent : ib->second);
+        d.exact(section, kind, prefix + k, ia == a.end() ? kAbsent : ia->second, ib == b.end() ? kAbsent : ib->second);
+    }
+}
+
+std::map<std::string, json> members(const json& object) {
+    std::map<std::string, json> out;
+    if (object.is_object())
+        for (const auto& [k, v] : object.items()) out[k] = v;
+    return out;
+}
+
+// The scenario's inputs, named as the scenario file writes them: report.json's
+// "scenario" holds each value the loader read (reports/run_report.cpp).
+void diff_inputs(Differ& d, const json& a, const json& b) {
+    static constexpr std::pair<const char*, const char*> kFields[] = {
+        {"dim", "dimensions (from [room] size)"}, {"room", "[room] size"},         {"radius", "[ball] radius"},
+        {"position", "[ball] position"},          {"velocity", "[ball] velocity"}, {"gravity", "[world] gravity"},
+        {"alpha", "[damping] normal"},            {"beta", "[damping] tangential"}, {"dt", "[run] dt"},
+        {"duration", "[run] duration"},
+    };
+    for (const auto& [field_name, input] : kFields)
+        d.exact(DiffSection::input, "inputs", input, field(a, field_name), field(b, field_name));
+    const auto engines_a = members(field(a, "engines")), engines_b = members(field(b, "engines"));
+    std::set<std::string> engines;
+    for (const auto& [name, table] : engines_a) engines.insert(name);
+    for (const auto& [name, table] : engines_b) engines.insert(name);
+    for (const std::string& name : engines) {
+        const auto ta = engines_a.find(name), tb = engines_b.find(name);
+        const json& table_a = ta == engines_a.end() ? kAbsent : ta->second;
+        const json& table_b = tb == engines_b.end() ? kAbsent : tb->second;
+        // A table added or removed shows as each of its keys, absent on one side.
+        diff_maps(d, DiffSection::input, "inputs", "[engines." + name + "] ", members(table_a), members(table_b));
+    }
+    const json &ta = field(a, "thresholds"), &tb = field(b, "thresholds");
+    diff_maps(d, DiffSection::input, "inputs", "[thresholds] ", members(field(ta, "all")), members(field(tb, "all")));
+    const auto sims_a = members(field(ta, "simulators")), sims_b = members(field(tb, "simulators"));
+    std::set<std::string> sims;
+    for (const auto& [name, set] : sims_a) sims.insert(name);
+    for (const auto& [name, set] : sims_b) sims.insert(name);
+    for (const std::string& name : sims) {
+        const auto sa = sims_a.find(name), sb = sims_b.find(name);
+        diff_maps(d, DiffSection::input, "inputs", "[thresholds." + name + "] ",
+                  members(sa == sims_a.end() ? kAbsent : sa->second), members(sb == sims_b.end() ? kAbsent : sb->second));
+    }
+}
+
+// Why each setting change happened: the first input of its scenario that
+// changed, its own engine table's first; none: no input explains it.
+void explain_settings(ReportDiff& out) {
+    for (DiffChange& setting : out.changes) {
+        if (setting.section != DiffSection::setting) continue;
+        const DiffChange* first = nullptr;
+        const std::string own_table = "[engines." + setting.simulator + "]";
+        for (const DiffChange& input : out.changes) {
+            if (input.section != DiffSection::input || input.scenario != setting.scenario) continue;
+            if (input.metric.rfind(own_table, 0) == 0) {
+                first = &input;
+                break;
+            }
+            if (!first && input.metric.rfind("[engines.", 0) != 0 && input.metric.rfind("[thresholds", 0) != 0)
+                first = &input;
+        }
+        if (first) setting.cause = first->metric;
     }
 }
 
 // Field by field, what explains a change first (status, settings, verdicts),
 // then what it moved (counts, distances, damping, bounce by bounce).
 void diff_simulator(Differ& d, const json& a, const json& b) {
-    d.exact("status", field(a, "status"), field(b, "status"));
-    d.exact("reason", field(a, "reason"), field(b, "reason"));
+    d.exact("status", "status", field(a, "status"), field(b, "status"));
+    d.exact("status", "reason", field(a, "reason"), field(b, "reason"));
     if (field(a, "status") == "skipped" || field(b, "status") == "skipped") return;
-    diff_maps(d, "setting ", by_key(field(a, "settings"), "key", "value"), by_key(field(b, "settings"), "key", "value"));
+    diff_maps(d, DiffSection::setting, "settings", "", by_key(field(a, "settings"), "key", "value"),
+              by_key(field(b, "settings"), "key", "value"));
     const json &ca = field(a, "comparison"), &cb = field(b, "comparison");
     const json &da = field(ca, "damping"), &db = field(cb, "damping");
-    d.exact("damping verdict", field(da, "verdict"), field(db, "verdict"));
-    diff_maps(d, "threshold ", by_key(field(ca, "thresholds"), "metric", "passed"),
+    d.exact("damping verdict", "damping verdict", field(da, "verdict"), field(db, "verdict"));
+    diff_maps(d, DiffSection::consequence, "thresholds", "threshold ", by_key(field(ca, "thresholds"), "metric", "passed"),
               by_key(field(cb, "thresholds"), "metric", "passed"));
     for (const char* count : {"steps", "contacts", "floor_contacts", "apex_count"})
-        d.exact(count, field(a, count), field(b, count));
+        d.exact("counts", count, field(a, count), field(b, count));
     for (const char* baseline : {"vs_reference", "vs_exact"})
         for (const char* measure : {"rms", "max"})
-            d.number(fmt::format("trajectory {} {}", measure, baseline), "trajectory",
+            d.number("trajectory", fmt::format("trajectory {} {}", measure, baseline), "trajectory",
                      field(field(field(ca, baseline), "trajectory"), measure),
                      field(field(field(cb, baseline), "trajectory"), measure));
-    d.number("measured alpha", "damping", field(da, "normal_mean"), field(db, "normal_mean"));
-    d.number("measured beta", "damping", field(da, "tangential_mean"), field(db, "tangential_mean"));
-    d.number("rest_time", "time", field(a, "rest_time"), field(b, "rest_time"));
+    d.number("measured damping", "measured alpha", "damping", field(da, "normal_mean"), field(db, "normal_mean"));
+    d.number("measured damping", "measured beta", "damping", field(da, "tangential_mean"), field(db, "tangential_mean"));
+    d.number("rest time", "rest_time", "time", field(a, "rest_time"), field(b, "rest_time"));
 
     const json &apexes_a = field(a, "apexes"), &apexes_b = field(b, "apexes");
     for (std::size_t i = 0; i < std::max(size_of(apexes_a), size_of(apexes_b)); ++i) {
         const json &x = element(apexes_a, i), &y = element(apexes_b, i);
-        d.number(fmt::format("apex[{}].height", i + 1), "height", field(x, "height"), field(y, "height"));
-        d.number(fmt::format("apex[{}].t", i + 1), "time", field(x, "t"), field(y, "t"));
+        d.number("apex heights", fmt::format("apex[{}].height", i + 1), "height", field(x, "height"), field(y, "height"));
+        d.number("apex times", fmt::format("apex[{}].t", i + 1), "time", field(x, "t"), field(y, "t"));
     }
     const json &floor_a = field(a, "first_floor_contacts"), &floor_b = field(b, "first_floor_contacts");
     for (std::size_t i = 0; i < std::max(size_of(floor_a), size_of(floor_b)); ++i) {
         const json &x = element(floor_a, i), &y = element(floor_b, i);
-        d.number(fmt::format("floor_contact[{}].t", i + 1), "time", field(x, "t"), field(y, "t"));
-        d.number(fmt::format("floor_contact[{}].alpha", i + 1), "damping", field(x, "restitution"),
-                 field(y, "restitution"));
+        d.number("contact times", fmt::format("floor_contact[{}].t", i + 1), "time", field(x, "t"), field(y, "t"));
+        d.number("contact restitution", fmt::format("floor_contact[{}].alpha", i + 1), "damping",
+                 field(x, "restitution"), field(y, "restitution"));
     }
     for (const char* part : {"position", "velocity"}) {
         const json &pa = field(field(a, "final_state"), part), &pb = field(field(b, "final_state"), part);
         for (std::size_t i = 0; i < std::max(size_of(pa), size_of(pb)); ++i)
-            d.number(fmt::format("final {}[{}]", part, i), "state", element(pa, i), element(pb, i));
+            d.number("final state", fmt::format("final {}[{}]", part, i), "state", element(pa, i), element(pb, i));
     }
 }
 
@@ -263,10 +334,13 @@ ReportDiff diff_reports(const LoadedReport& old_report, const LoadedReport& new_
     for (const std::string& name : order) {
         const auto a = olds.find(name), b = news.find(name);
         if (a == olds.end() || b == news.end()) {
-            out.changes.push_back({name, "", "scenario", a == olds.end() ? "absent" : "present",
-                                   b == news.end() ? "absent" : "present", "", std::nullopt});
+            out.changes.push_back({DiffSection::consequence, name, "", "scenario", "presence",
+                                   a == olds.end() ? "absent" : "present", b == news.end() ? "absent" : "present", "",
+                                   std::nullopt, {}});
             continue;
         }
+        Differ inputs(tolerances, out, name, "");
+        diff_inputs(inputs, (*a->second)["scenario"], (*b->second)["scenario"]);
         const json &sims_a = (*a->second)["simulators"], &sims_b = (*b->second)["simulators"];
         const auto by_name_a = named(sims_a, "simulator"), by_name_b = named(sims_b, "simulator");
         std::vector<std::string> sims;
@@ -276,8 +350,9 @@ ReportDiff diff_reports(const LoadedReport& old_report, const LoadedReport& new_
         for (const std::string& sim : sims) {
             const auto x = by_name_a.find(sim), y = by_name_b.find(sim);
             if (x == by_name_a.end() || y == by_name_b.end()) {
-                out.changes.push_back({name, sim, "simulator", x == by_name_a.end() ? "absent" : "present",
-                                       y == by_name_b.end() ? "absent" : "present", "", std::nullopt});
+                out.changes.push_back({DiffSection::consequence, name, sim, "simulator", "presence",
+                                       x == by_name_a.end() ? "absent" : "present",
+                                       y == by_name_b.end() ? "absent" : "present", "", std::nullopt, {}});
                 continue;
             }
             Differ d(tolerances, out, name, sim);
@@ -285,6 +360,10 @@ ReportDiff diff_reports(const LoadedReport& old_report, const LoadedReport& new_
             diff_timing(out, name, sim, *x->second, *y->second, timing_ratio);
         }
     }
+    // Inputs first, then settings, then consequences, each in the order found.
+    std::stable_sort(out.changes.begin(), out.changes.end(),
+                     [](const DiffChange& x, const DiffChange& y) { return x.section < y.section; });
+    explain_settings(out);
     return out;
 }
 

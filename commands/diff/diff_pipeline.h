@@ -34,10 +34,11 @@ struct DiffTolerances {
 std::optional<std::string> parse_tolerance(const std::string& arg, DiffTolerances& t);
 
 // --tolerance KEY=VALUE (repeatable) and --timing-ratio R: how `diff` and
-// `run --baseline` judge a change.
+// `run --baseline` judge a change; --all and --timings: what they show.
 struct DiffJudging {
     std::vector<std::string> tolerance_args;
     double timing_ratio = 0;  // 0: timings reported, not judged
+    DiffDisplay display;
     // The tolerances, or nothing (each bad argument printed).
     std::optional<DiffTolerances> tolerances() const;
     std::optional<double> ratio() const { return timing_ratio > 0 ? std::optional<double>(timing_ratio) : std::nullopt; }

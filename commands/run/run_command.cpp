@@ -147,8 +147,8 @@ int command_run(RunOptions opt) {
     fmt::print("\nwrote report.html, report.json, report.md, junit.xml and bounces.csv in {}\n", out_dir.string());
     fmt::print("{}\n", format_provenance(report.provenance));
     if (diff) {
-        fmt::print("{}", format_diff(*diff));
-        write_diff(*diff, out_dir);
+        fmt::print("{}", format_diff(*diff, opt.judging.display));
+        write_diff(*diff, out_dir, opt.judging.display);
         fmt::print("\nwrote diff.md and diff.json in {}\n", out_dir.string());
     }
     fmt::print("\n{}", format_verdict(verdict));
