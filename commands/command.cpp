@@ -106,13 +106,20 @@ std::optional<std::vector<const Simulator*>> select_simulators(const std::vector
     return selected;
 }
 
-bool create_out_dir(const fs::path& out_dir) {
+void set_exit_status_help(CLI::App& command, const std::vector<std::pair<int, std::string>>& statuses) {
+    std::string text = "Exit status:\n";
+    for (const auto& [status, meaning] : statuses) text += fmt::format("  {}  {}\n", status, meaning);
+    if (std::none_of(statuses.begin(), statuses.end(), [](const auto& s) { return s.first == kSimulatorFailed; }))
+        text += fmt::format("  {}  an unexpected error (named on stderr)\n", int(kSimulatorFailed));
+    command.footer(text);
+}
+
+void record_outputs(OutputFolder& out, std::string_view kind, const WrittenFiles& written) {
     try {
-        fs::create_directories(out_dir);
-        return true;
+        fmt::print("{}", format_manifest_update(out.record(kind, written), out.dir()));
     } catch (const std::exception& e) {
-        fmt::print(stderr, "error: --out: cannot create {}: {}\n", out_dir.string(), e.what());
-        return false;
+        // The outputs are whole; only the list of them is not up to date.
+        fmt::print(stderr, "warning: {}: the folder's manifest was not updated: {}\n", out.dir().string(), e.what());
     }
 }
 

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "platform/install_layout.h"  // bundled_scenario_dir
+#include "platform/output_manifest.h"
 #include "external/external_simulator.h"
 #include "scenarios/scenario.h"
 #include "simulators/simulator.h"
@@ -18,6 +19,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace CLI {
@@ -38,6 +40,10 @@ struct Command {
     CLI::App* app = nullptr;
     std::function<int()> run;
 };
+
+// The end of `bouncecheck COMMAND --help`: that command's own exit statuses,
+// one line each ({status, meaning}), and that an unexpected error is 3.
+void set_exit_status_help(CLI::App& command, const std::vector<std::pair<int, std::string>>& statuses);
 
 // Each declared by commands/<name>/<name>_command.cpp.
 Command add_run_command(CLI::App& app);
@@ -76,8 +82,10 @@ std::optional<std::vector<const Simulator*>> select_simulators(const std::vector
                                                                const std::vector<std::string>& engines,
                                                                std::string_view excluded = {},
                                                                std::string_view why_excluded = {});
-// Creates --out; reports why not.
-bool create_out_dir(const std::filesystem::path& out_dir);
+// After a command wrote `written` into its output folder as output of
+// `kind`: updates the folder's manifest (removing that kind's stale files)
+// and says on the terminal what it removed or left (platform/output_manifest.h).
+void record_outputs(OutputFolder& out, std::string_view kind, const WrittenFiles& written);
 
 // --external NAME=COMMAND (repeatable) and --external-timeout, shared by the
 // commands that run simulators (docs/external.md).

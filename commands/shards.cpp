@@ -36,7 +36,7 @@ Shard shard_of(const std::string& text) {
     return text.empty() ? Shard{} : parse_shard(text, error).value_or(Shard{});
 }
 
-void write_shard_file(const fs::path& out_dir, const ShardFile& file) {
+WrittenFiles write_shard_file(const fs::path& out_dir, const ShardFile& file) {
     nlohmann::json results = nlohmann::json::array();
     for (const std::string& bytes : file.results)
         results.push_back(nlohmann::json::binary(std::vector<std::uint8_t>(bytes.begin(), bytes.end())));
@@ -52,6 +52,7 @@ void write_shard_file(const fs::path& out_dir, const ShardFile& file) {
     const std::vector<std::uint8_t> bytes = nlohmann::json::to_cbor(j);
     write_file_atomically(out_dir / kShardFileName,
                           std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+    return {kShardFileName};
 }
 
 std::string run_fingerprint(std::string_view command, std::string_view inputs) {

@@ -4,6 +4,7 @@
 // them. Each shard's pairs are platform/shard.h's assignment.
 #pragma once
 
+#include "platform/output_manifest.h"
 #include "platform/shard.h"
 
 #include <nlohmann/json.hpp>
@@ -40,7 +41,8 @@ struct ShardFile {
     std::vector<std::size_t> slots;    // the shard's pairs, in the whole run's order
     std::vector<std::string> results;  // each pair's result as the pipeline encodes it
 };
-void write_shard_file(const std::filesystem::path& out_dir, const ShardFile& file);
+// Writes DIR/shard.cbor atomically; returns its name.
+WrittenFiles write_shard_file(const std::filesystem::path& out_dir, const ShardFile& file);
 
 // The fingerprint of a run: this build (its provenance block without the
 // machine), the command, and `inputs` (the options that choose the work, and
@@ -68,7 +70,7 @@ bool shards_ran_this_plan(const ShardSet& shards, const std::string& planned);
 // shards whose fingerprint is not this plan's, and writes exactly what the
 // unsharded run writes, returning its exit status. In
 // commands/stress/stress_command.cpp and commands/sweep/sweep_command.cpp.
-int merge_stress(const ShardSet& shards, const std::filesystem::path& out_dir, bool no_timings);
-int merge_sweep(const ShardSet& shards, const std::filesystem::path& out_dir, bool no_timings);
+int merge_stress(const ShardSet& shards, OutputFolder& out, bool no_timings);
+int merge_sweep(const ShardSet& shards, OutputFolder& out, bool no_timings);
 
 }  // namespace bouncecheck

@@ -5,6 +5,8 @@
 // its three renderings (terminal, diff.md, diff.json).
 #pragma once
 
+#include "platform/output_manifest.h"
+
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -71,7 +73,7 @@ struct DiffDisplay {
 std::string format_diff(const ReportDiff& d, const DiffDisplay& display = {});
 std::string diff_markdown(const ReportDiff& d, const DiffDisplay& display = {});  // diff.md, for a pull request
 nlohmann::json diff_json(const ReportDiff& d);  // diff.json, schema bouncecheck-diff/1: every change, every timing
-// diff.md and diff.json in `out_dir`, each written atomically.
-void write_diff(const ReportDiff& d, const std::filesystem::path& out_dir, const DiffDisplay& display = {});
+// diff.md and diff.json in `out_dir`, each written atomically; returns their names.
+WrittenFiles write_diff(const ReportDiff& d, const std::filesystem::path& out_dir, const DiffDisplay& display = {});
 
 }  // namespace bouncecheck

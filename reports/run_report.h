@@ -4,6 +4,7 @@
 #pragma once
 
 #include "metrics/summary.h"
+#include "platform/output_manifest.h"
 #include "reports/plot_data.h"
 #include "reports/provenance.h"
 #include "reports/web_assets.h"
@@ -78,8 +79,10 @@ std::string bounces_csv(const RunReport& report);   // bounces.csv: scenario,sim
 // the plots of every scenario that recorded them; see reports/html_report.cpp.
 Page to_html(const RunReport& report);
 // Writes report.json, report.md, junit.xml, bounces.csv and, when the run
-// recorded plots, report.html into out_dir, each atomically.
-// `verdict`: how report.md ends.
-void write_reports(const RunReport& report, const std::filesystem::path& out_dir, const RunVerdict* verdict = nullptr);
+// recorded plots, report.html into out_dir, each atomically. `verdict`: how
+// report.md ends. Returns those names and the run's trajectory files
+// (--trajectories), relative to out_dir: the run's whole output.
+WrittenFiles write_reports(const RunReport& report, const std::filesystem::path& out_dir,
+                           const RunVerdict* verdict = nullptr);
 
 }  // namespace bouncecheck

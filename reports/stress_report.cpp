@@ -323,22 +323,26 @@ void write_stress_json(const std::filesystem::path& target, const StressReport& 
 
 }  // namespace
 
-void write_stress(const StressReport& r, const std::vector<StressCase>& cases, const nlohmann::json& parameters,
+WrittenFiles write_stress(const StressReport& r, const std::vector<StressCase>& cases, const nlohmann::json& parameters,
                   const std::filesystem::path& out_dir, const nlohmann::json& provenance) {
+    WrittenFiles written = {"stress.csv", "stress.json"};
     write_file_atomically(out_dir / "stress.csv", stress_csv(r));
     write_stress_json(out_dir / "stress.json", r, cases, parameters, provenance);
     // A generated scenario that broke something, as a file `bouncecheck run` reproduces.
     std::map<std::string, const StressCase*> generated;
     for (const StressCase& c : cases)
         if (c.generated) generated.emplace(c.scenario.name, &c);
-    std::set<std::string> written;
+    std::set<std::string> scenarios_written;
     for (const StressResult& res : r.results) {
         if (res.outcome == StressOutcome::pass || res.outcome == StressOutcome::skipped) continue;
         const auto c = generated.find(res.scenario);
-        if (c == generated.end() || !written.insert(res.scenario).second) continue;
+        if (c == generated.end() || !scenarios_written.insert(res.scenario).second) continue;
         std::filesystem::create_directories(out_dir / kStressScenarioDir);
-        write_file_atomically(out_dir / kStressScenarioDir / (res.scenario + ".toml"), scenario_toml(c->second->scenario));
+        const std::string file = std::string(kStressScenarioDir) + "/" + res.scenario + ".toml";
+        write_file_atomically(out_dir / file, scenario_toml(c->second->scenario));
+        written.push_back(file);
     }
+    return written;
 }
 
 }  // namespace bouncecheck

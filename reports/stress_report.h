@@ -3,6 +3,7 @@
 // scenarios as files.
 #pragma once
 
+#include "platform/output_manifest.h"
 #include "scenarios/scenario.h"
 
 #include <nlohmann/json.hpp>
@@ -102,8 +103,9 @@ std::string format_stress_failures(const StressReport& r);
 std::string stress_csv(const StressReport& r);
 // Writes DIR/stress.json (as nlohmann's dump(2) of the document, a result at
 // a time), DIR/stress.csv, and each generated scenario that failed, crashed
-// or hung as DIR/stress-scenarios/<name>.toml, each atomically.
-void write_stress(const StressReport& r, const std::vector<StressCase>& cases, const nlohmann::json& parameters,
-                  const std::filesystem::path& out_dir, const nlohmann::json& provenance = nullptr);
+// or hung as DIR/stress-scenarios/<name>.toml, each atomically; returns
+// what it wrote, relative to DIR.
+WrittenFiles write_stress(const StressReport& r, const std::vector<StressCase>& cases, const nlohmann::json& parameters,
+                          const std::filesystem::path& out_dir, const nlohmann::json& provenance = nullptr);
 
 }  // namespace bouncecheck

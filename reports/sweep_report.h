@@ -3,6 +3,7 @@
 // and the terminal table.
 #pragma once
 
+#include "platform/output_manifest.h"
 #include "reports/web_assets.h"
 #include "scenarios/scenario.h"
 #include "simulators/simulator.h"
@@ -73,8 +74,9 @@ std::string order_caveat(const SweepOrder& o, const SweepResult& r, const Scenar
 // per engine, the Pareto front marked) and the orders, self-contained like
 // report.html (reports/html_report.cpp).
 Page sweep_html(const nlohmann::json& sweep);
-// Writes DIR/sweep.csv, DIR/sweep.json and DIR/sweep.html, each atomically.
-void write_sweep(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters,
-                 const std::filesystem::path& out_dir, const nlohmann::json& provenance = nullptr);
+// Writes DIR/sweep.csv, DIR/sweep.json and DIR/sweep.html, each atomically;
+// returns their names.
+WrittenFiles write_sweep(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters,
+                         const std::filesystem::path& out_dir, const nlohmann::json& provenance = nullptr);
 
 }  // namespace bouncecheck

@@ -1,15 +1,18 @@
 #!/usr/bin/env bash
-# Fuzzes the scenario loader (parse + validation, as `bouncecheck validate`)
-# with libFuzzer under ASan and UBSan for a bounded time:
+# Fuzzes bouncecheck's readers with libFuzzer under ASan and UBSan, each for
+# a bounded time, one after another:
+#   fuzz_scenario_loader   the scenario loader (parse + validation, as `bouncecheck validate`)
+#   fuzz_output_manifest   an output folder's manifest (bouncecheck-manifest.tsv)
 #
-#   scripts/fuzz.sh [SECONDS]      # default 300
+#   scripts/fuzz.sh [SECONDS]      # per target; default 300
 #
 # Installs what is missing (clang 14 and its libFuzzer/sanitizer runtimes),
 # builds fuzz/ into build-fuzz/ (or $FUZZ_BUILD_DIR), and runs on one core.
-# The corpus grows in build-fuzz/corpus/ from run to run; each run is seeded
-# afresh with the bundled scenarios, the broken ones under tests/data/invalid/
-# and fuzz/seeds/. Fails on any finding: the input is kept in
-# build-fuzz/findings/ (reproduce: build-fuzz/fuzz/fuzz_scenario_loader FILE).
+# Each target's corpus grows in build-fuzz/corpus/<target>/ from run to run;
+# each run is seeded afresh: the loader with the bundled scenarios, the
+# broken ones under tests/data/invalid/ and fuzz/seeds/; the manifest with
+# fuzz/seeds-manifest/. Fails on any finding: the input is kept in
+# build-fuzz/findings/<target>/ (reproduce: build-fuzz/fuzz/<target> FILE).
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -28,32 +31,41 @@ cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_C
   -DBOUNCECHECK_WITH_BULLET=OFF -DBOUNCECHECK_WITH_ODE=OFF -DBOUNCECHECK_WITH_BOX2D=OFF \
   -DBOUNCECHECK_WITH_MUJOCO=OFF -DBOUNCECHECK_WITH_CHIPMUNK=OFF -DBOUNCECHECK_WITH_SICONOS=OFF -DBOUNCECHECK_WITH_DART=OFF \
   > "$BUILD_DIR/configure.log" 2>&1 || { cat "$BUILD_DIR/configure.log"; exit 1; }
-cmake --build "$BUILD_DIR" --target fuzz_scenario_loader -j "$(nproc)"
+cmake --build "$BUILD_DIR" --target fuzz_scenario_loader fuzz_output_manifest -j "$(nproc)"
 
-seeds="$BUILD_DIR/seeds"
-rm -rf "$seeds"
-rm -rf "$BUILD_DIR/findings"  # only this run's
-mkdir -p "$seeds" "$BUILD_DIR/corpus" "$BUILD_DIR/findings"
+# fuzz TARGET SEED_DIR [-dict=FILE]: one process on one core for SECONDS_TO_RUN.
+# -timeout turns a hang (an input taking over 10 s) into a finding;
+# -rss_limit_mb does the same for runaway memory.
+failed=0
+fuzz() {
+  local target="$1" seeds="$2" status=0
+  shift 2
+  local corpus="$BUILD_DIR/corpus/$target" findings="$BUILD_DIR/findings/$target" log="$BUILD_DIR/$target.log"
+  rm -rf "$findings"  # only this run's
+  mkdir -p "$corpus" "$findings"
+  echo "fuzz: $target for ${SECONDS_TO_RUN} s; log in $log"
+  "$BUILD_DIR/fuzz/$target" "$corpus" "$seeds" "$@" -max_total_time="$SECONDS_TO_RUN" -timeout=10 \
+    -rss_limit_mb=2048 -artifact_prefix="$findings/" -print_final_stats=1 > "$log" 2>&1 || status=$?
+  # The summary: the last status line (executions, coverage "cov", corpus
+  # "corp" after libFuzzer's own reduction), and the final counts.
+  grep -E '^#[0-9]+' "$log" | tail -n 1 || true
+  grep -E '^(Done|stat::number_of_executed_units|stat::peak_rss_mb)' "$log" || true
+  if ((status != 0)); then
+    tail -n 60 "$log"
+    echo "fuzz: $target failed (exit $status); findings in $findings/:" >&2
+    ls -1 "$findings/" >&2
+    failed=1
+  fi
+}
+
+seeds="$BUILD_DIR/seeds/scenario-loader"
+rm -rf "$BUILD_DIR/seeds"
+mkdir -p "$seeds"
 cp "$ROOT"/scenarios/*.toml "$seeds/"
 for f in "$ROOT"/tests/data/invalid/*.toml; do cp "$f" "$seeds/invalid-$(basename "$f")"; done
 for f in "$ROOT"/fuzz/seeds/*; do cp "$f" "$seeds/fuzz-$(basename "$f")"; done
+fuzz fuzz_scenario_loader "$seeds" -dict="$ROOT/fuzz/toml.dict"
+fuzz fuzz_output_manifest "$ROOT/fuzz/seeds-manifest"
 
-# One process on one core. -timeout turns a hang (an input taking over 10 s)
-# into a finding; -rss_limit_mb does the same for runaway memory.
-echo "fuzz: running for ${SECONDS_TO_RUN} s; log in $BUILD_DIR/fuzz.log"
-status=0
-"$BUILD_DIR/fuzz/fuzz_scenario_loader" "$BUILD_DIR/corpus" "$seeds" \
-  -dict="$ROOT/fuzz/toml.dict" -max_total_time="$SECONDS_TO_RUN" -timeout=10 -rss_limit_mb=2048 \
-  -artifact_prefix="$BUILD_DIR/findings/" -print_final_stats=1 \
-  > "$BUILD_DIR/fuzz.log" 2>&1 || status=$?
-# The summary: the last status line (executions, coverage "cov", corpus
-# "corp" after libFuzzer's own reduction), and the final counts.
-grep -E '^#[0-9]+' "$BUILD_DIR/fuzz.log" | tail -n 1 || true
-grep -E '^(Done|stat::number_of_executed_units|stat::peak_rss_mb)' "$BUILD_DIR/fuzz.log" || true
-if ((status != 0)); then
-  tail -n 60 "$BUILD_DIR/fuzz.log"
-  echo "fuzz: failed (exit $status); findings in $BUILD_DIR/findings/:" >&2
-  ls -1 "$BUILD_DIR/findings/" >&2
-  exit 1
-fi
+((failed == 0)) || exit 1
 echo "fuzz: no finding"

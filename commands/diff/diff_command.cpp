@@ -37,12 +37,15 @@ int command_diff(const DiffOptions& opt) {
             ok = false;
         }
     }
-    if (!ok || !create_out_dir(opt.out_dir)) return kBadInput;
+    if (!ok) return kBadInput;
+    auto out = OutputFolder::open(opt.out_dir);
+    if (!out) return kBadInput;
     const ReportDiff diff = diff_reports(std::get<LoadedReport>(old_report), std::get<LoadedReport>(new_report),
                                          *tolerances, opt.judging.ratio());
     fmt::print("{}", format_diff(diff, opt.judging.display));
-    write_diff(diff, opt.out_dir, opt.judging.display);
+    const WrittenFiles written = write_diff(diff, opt.out_dir, opt.judging.display);
     fmt::print("\nwrote diff.md and diff.json in {}\n", opt.out_dir);
+    record_outputs(*out, "diff", written);
     return diff.changed() ? kThresholdExceeded : kOk;
 }
 

@@ -39,9 +39,10 @@ int command_merge(const MergeOptions& opt) {
     const auto shards = read_shards(dirs);
     if (!shards) return kBadInput;
     const fs::path out_dir = positional_out ? opt.folders.front() : opt.out_dir;
-    if (!create_out_dir(out_dir)) return kBadInput;
-    if (shards->command == "stress") return merge_stress(*shards, out_dir, opt.no_timings);
-    if (shards->command == "sweep") return merge_sweep(*shards, out_dir, opt.no_timings);
+    auto out = OutputFolder::open(out_dir);
+    if (!out) return kBadInput;
+    if (shards->command == "stress") return merge_stress(*shards, *out, opt.no_timings);
+    if (shards->command == "sweep") return merge_sweep(*shards, *out, opt.no_timings);
     fmt::print(stderr, "error: {}: shards of `{}`, which has no merge (stress and sweep do)\n", dirs.front().string(),
                shards->command);
     return kBadInput;

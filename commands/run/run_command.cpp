@@ -114,7 +114,8 @@ int command_run(RunOptions opt) {
     const auto selected = select_simulators(all, opt.engines);
     if (!selected) return kBadInput;
     const fs::path out_dir = opt.out_dir;
-    if (!create_out_dir(out_dir)) return kBadInput;
+    auto out = OutputFolder::open(out_dir);
+    if (!out) return kBadInput;
 
     RunReport report;
     report.provenance = this_provenance(/*with_machine=*/!opt.no_timings);
@@ -143,14 +144,15 @@ int command_run(RunOptions opt) {
     verdict.exit_status = !verdict.failed.empty()                      ? kSimulatorFailed
                           : !verdict.exceeded.empty() || changed ? kThresholdExceeded
                                                                        : kOk;
-    write_reports(report, out_dir, &verdict);
+    WrittenFiles written = write_reports(report, out_dir, &verdict);
     fmt::print("\nwrote report.html, report.json, report.md, junit.xml and bounces.csv in {}\n", out_dir.string());
     fmt::print("{}\n", format_provenance(report.provenance));
     if (diff) {
         fmt::print("{}", format_diff(*diff, opt.judging.display));
-        write_diff(*diff, out_dir, opt.judging.display);
+        for (std::string& file : write_diff(*diff, out_dir, opt.judging.display)) written.push_back(std::move(file));
         fmt::print("\nwrote diff.md and diff.json in {}\n", out_dir.string());
     }
+    record_outputs(*out, "run", written);
     fmt::print("\n{}", format_verdict(verdict));
     return verdict.exit_status;
 }

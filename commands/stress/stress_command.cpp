@@ -147,13 +147,17 @@ int stress_exit_status(const StressReport& report) {
 }
 
 // The matrix on the terminal, and stress.json, stress.csv and the failing generated scenarios in `out_dir`.
+// `written`: what the command wrote before (a shard's file).
 int report_stress(StressReport report, const std::vector<StressCase>& cases, const StressOptions& opt,
-                  const fs::path& out_dir, nlohmann::json parameters) {
+                  OutputFolder& out, nlohmann::json parameters, WrittenFiles written = {}) {
     report.monte_carlo = opt.monte_carlo;
     if (opt.no_timings) leave_out_timings(report);
     fmt::print("{}{}", format_stress_matrix(report), format_stress_failures(report));
-    write_stress(report, cases, parameters, out_dir, to_json(this_provenance(/*with_machine=*/!opt.no_timings)));
-    fmt::print("\nwrote stress.json and stress.csv in {}\n", out_dir.string());
+    for (std::string& file : write_stress(report, cases, parameters, out.dir(),
+                                          to_json(this_provenance(/*with_machine=*/!opt.no_timings))))
+        written.push_back(std::move(file));
+    fmt::print("\nwrote stress.json and stress.csv in {}\n", out.dir().string());
+    record_outputs(out, "stress", written);
     return stress_exit_status(report);
 }
 
@@ -161,7 +165,8 @@ int command_stress(const StressOptions& opt) {
     const auto plan = plan_stress(opt);
     if (!plan) return kBadInput;
     const fs::path out_dir = opt.out_dir;
-    if (!create_out_dir(out_dir)) return kBadInput;
+    auto out = OutputFolder::open(out_dir);
+    if (!out) return kBadInput;
 
     StressRequest request;
     request.simulators = plan->simulators;
@@ -176,14 +181,14 @@ int command_stress(const StressOptions& opt) {
     };
     StressReport report = run_stress(plan->cases, request);
     nlohmann::json parameters = plan->parameters(opt, out_dir);
-    if (request.shard.whole()) return report_stress(std::move(report), plan->cases, opt, out_dir, std::move(parameters));
+    if (request.shard.whole()) return report_stress(std::move(report), plan->cases, opt, *out, std::move(parameters));
 
     // The shard's own results and scenarios as files, and what merge needs to put them back.
     parameters["shard"] = opt.shard;
     ShardFile file{"stress", request.shard, plan->cases.size() * plan->simulators.size(), plan->fingerprint(opt),
                    to_json(opt), report.wall_seconds, report.slots, {}};
     for (const StressResult& r : report.results) file.results.push_back(encode_stress_result(r));
-    write_shard_file(out_dir, file);
+    WrittenFiles written = write_shard_file(out_dir, file);
     std::vector<StressCase> own;  // each case the shard ran a pair of, once (slots ascend, case-major)
     std::size_t last = plan->cases.size();
     for (std::size_t slot : report.slots) {
@@ -191,12 +196,12 @@ int command_stress(const StressOptions& opt) {
         if (c != last) own.push_back(plan->cases[c]);
         last = c;
     }
-    return report_stress(std::move(report), own, opt, out_dir, std::move(parameters));
+    return report_stress(std::move(report), own, opt, *out, std::move(parameters), std::move(written));
 }
 
 }  // namespace
 
-int merge_stress(const ShardSet& shards, const fs::path& out_dir, bool no_timings) {
+int merge_stress(const ShardSet& shards, OutputFolder& out, bool no_timings) {
     StressOptions opt;
     try {
         opt = stress_options_from(shards.options);
@@ -216,7 +221,7 @@ int merge_stress(const ShardSet& shards, const fs::path& out_dir, bool no_timing
         return kBadInput;
     }
     report.wall_seconds = shards.wall_seconds;
-    return report_stress(std::move(report), plan->cases, opt, out_dir, plan->parameters(opt, out_dir));
+    return report_stress(std::move(report), plan->cases, opt, out, plan->parameters(opt, out.dir()));
 }
 
 Command add_stress_command(CLI::App& app) {

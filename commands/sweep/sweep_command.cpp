@@ -138,13 +138,17 @@ std::optional<SweepPlan> plan_sweep(const SweepOptions& opt) {
 }
 
 // The table on the terminal, and sweep.csv, sweep.json and sweep.html in `out_dir`.
-int report_sweep(SweepResult result, const SweepPlan& plan, const fs::path& out_dir,
-                 const nlohmann::json& parameters, double wall_seconds, bool no_timings) {
+// `written`: what the command wrote before (a shard's file).
+int report_sweep(SweepResult result, const SweepPlan& plan, OutputFolder& out, const nlohmann::json& parameters,
+                 double wall_seconds, bool no_timings, WrittenFiles written = {}) {
     if (no_timings) leave_out_timings(result);
     fmt::print("{}", format_sweep(plan.scenario, result));
-    write_sweep(plan.scenario, result, parameters, out_dir, to_json(this_provenance(/*with_machine=*/!no_timings)));
-    fmt::print("\nwrote sweep.csv, sweep.json and sweep.html in {}{}\n", out_dir.string(),
+    for (std::string& file : write_sweep(plan.scenario, result, parameters, out.dir(),
+                                         to_json(this_provenance(/*with_machine=*/!no_timings))))
+        written.push_back(std::move(file));
+    fmt::print("\nwrote sweep.csv, sweep.json and sweep.html in {}{}\n", out.dir().string(),
                no_timings ? "" : fmt::format(" ({:.2f} s)", wall_seconds));
+    record_outputs(out, "sweep", written);
     const bool any_failed = std::any_of(result.rows.begin(), result.rows.end(),
                                         [](const SweepRow& r) { return r.status == RunStatus::failed; });
     return any_failed ? kSimulatorFailed : kOk;
@@ -154,7 +158,8 @@ int command_sweep(const SweepOptions& opt) {
     const auto plan = plan_sweep(opt);
     if (!plan) return kBadInput;
     const fs::path out_dir = opt.out_dir;
-    if (!create_out_dir(out_dir)) return kBadInput;
+    auto out = OutputFolder::open(out_dir);
+    if (!out) return kBadInput;
 
     SweepRequest request;
     request.simulators = plan->simulators;
@@ -181,14 +186,14 @@ int command_sweep(const SweepOptions& opt) {
         ShardFile file{"sweep", request.shard, plan->dts.size() * plan->simulators.size(), plan->fingerprint(opt),
                        to_json(opt), wall, result.slots, {}};
         for (const SweepRow& row : result.rows) file.results.push_back(encode_sweep_row(row));
-        write_shard_file(out_dir, file);
+        return report_sweep(result, *plan, *out, parameters, wall, opt.no_timings, write_shard_file(out_dir, file));
     }
-    return report_sweep(result, *plan, out_dir, parameters, wall, opt.no_timings);
+    return report_sweep(result, *plan, *out, parameters, wall, opt.no_timings);
 }
 
 }  // namespace
 
-int merge_sweep(const ShardSet& shards, const fs::path& out_dir, bool no_timings) {
+int merge_sweep(const ShardSet& shards, OutputFolder& out, bool no_timings) {
     SweepOptions opt;
     try {
         opt = sweep_options_from(shards.options);
@@ -206,7 +211,7 @@ int merge_sweep(const ShardSet& shards, const fs::path& out_dir, bool no_timings
         fmt::print(stderr, "error: a shard's row is unreadable: {}\n", e.what());
         return kBadInput;
     }
-    return report_sweep(std::move(result), *plan, out_dir, plan->parameters(opt, out_dir), shards.wall_seconds,
+    return report_sweep(std::move(result), *plan, out, plan->parameters(opt, out.dir()), shards.wall_seconds,
                         no_timings);
 }
 
