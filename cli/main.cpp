@@ -35,7 +35,7 @@ constexpr const char* kHelpFooter = R"(Examples:
   # numerical stability
   bouncecheck stress --only wall-starts,dead-ball
 
-Exit status:
+Exit status of run (each command's own ends its --help):
   0  ran, and every threshold (and the baseline) held
   1  a threshold or the baseline broke: the simulator and measure are named
   2  bad input or usage: nothing was run

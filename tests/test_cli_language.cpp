@@ -166,13 +166,38 @@ TEST(CliLanguage, UnknownFlagsAndCommandsSuggestTheClosest) {
 TEST(CliLanguage, HelpEndsWithExamplesAndExitCodes) {
     const CliResult r = bouncecheck("--help");
     EXPECT_EQ(r.status, 0);
-    const auto examples = r.output.find("Examples:"), exits = r.output.find("Exit status:");
+    const auto examples = r.output.find("Examples:"), exits = r.output.find("Exit status of run");
     ASSERT_NE(examples, std::string::npos) << r.output;
     ASSERT_NE(exits, std::string::npos) << r.output;
     EXPECT_LT(examples, exits);
     for (const char* code : {"  0  ", "  1  ", "  2  ", "  3  "}) EXPECT_TRUE(contains(r.output.substr(exits), code));
     // Every example names a command that exists.
     EXPECT_TRUE(contains(r.output, "bouncecheck stress --only wall-starts,dead-ball"));
+}
+
+// Each command's --help ends with its own exit statuses, not run's.
+TEST(CliLanguage, EachCommandsHelpEndsWithItsOwnExitStatuses) {
+    const struct {
+        const char* command;
+        std::vector<std::string> own;  // a line each of its statuses must show
+    } cases[] = {
+        {"run", {"  1  a threshold was exceeded", "  3  a simulator failed"}},
+        {"diff", {"  0  nothing changed beyond tolerance", "  1  something changed", "  3  an unexpected error"}},
+        {"stress", {"  1  an invariant broke", "  3  a simulator crashed"}},
+        {"sweep", {"  3  a pair failed"}},
+        {"validate", {"  2  a file is not"}},
+        {"merge", {"  2  the folders are not one complete run's shards"}},
+    };
+    for (const auto& c : cases) {
+        const CliResult r = bouncecheck(std::string(c.command) + " --help");
+        EXPECT_EQ(r.status, 0) << c.command;
+        const auto exits = r.output.rfind("Exit status:");
+        ASSERT_NE(exits, std::string::npos) << r.output;
+        for (const std::string& line : c.own) EXPECT_TRUE(contains(r.output.substr(exits), line)) << c.command << ": " << line << "\n" << r.output;
+        EXPECT_FALSE(contains(r.output, "Exit status of run") && std::string(c.command) != "run")
+            << c.command << " shows run's statuses:\n" << r.output;
+        EXPECT_FALSE(contains(r.output, "Examples:")) << c.command << ": the top level's examples\n" << r.output;
+    }
 }
 
 TEST(CliLanguage, ListIsAlignedAndHasJson) {

@@ -96,6 +96,8 @@ Command add_calibrate_command(CLI::App& app) {
         ->check(CLI::IsMember({"reference", "exact"}))
         ->capture_default_str();
     command->add_flag("--write", opt->write, "Write the value into the file's [engines.<engine>] table");
+    set_exit_status_help(*command, {{kOk, "calibrated (and with --write, written)"},
+                                   {kBadInput, "bad input or usage: nothing was run"}});
     return {command, [opt] { return command_calibrate(*opt); }};
 }
 

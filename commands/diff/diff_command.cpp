@@ -73,6 +73,9 @@ Command add_diff_command(CLI::App& app) {
     command->add_option("new", opt->new_path, "The run to compare with it: a report.json or output folder")->required();
     add_diff_judging_options(*command, opt->judging);
     command->add_option("--out", opt->out_dir, "Output folder for diff.md and diff.json")->capture_default_str();
+    set_exit_status_help(*command, {{kOk, "nothing changed beyond tolerance"},
+                                   {kThresholdExceeded, "something changed beyond tolerance, or a timing regressed: named"},
+                                   {kBadInput, "bad input: a file that is not a run report, with the reason"}});
     return {command, [opt] { return command_diff(*opt); }};
 }
 

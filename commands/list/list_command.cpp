@@ -107,6 +107,7 @@ Command add_list_command(CLI::App& app) {
     auto json = std::make_shared<bool>(false);
     CLI::App* command = app.add_subcommand("list", "Show the bundled scenarios and the simulators built");
     command->add_flag("--json", *json, "Print them as one JSON document (scenario_dir, scenarios, simulators)");
+    set_exit_status_help(*command, {{kOk, "listed"}, {kBadInput, "usage error"}});
     return {command, [json] { return command_list(*json); }};
 }
 

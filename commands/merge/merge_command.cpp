@@ -61,6 +61,8 @@ Command add_merge_command(CLI::App& app) {
         ->required()
         ->expected(1, -1);
     add_no_timings_flag(*command, opt->no_timings);
+    set_exit_status_help(*command, {{kOk, "merged; the unsharded command's status: stress 0, 1 or 3, sweep 0 or 3"},
+                                   {kBadInput, "the folders are not one complete run's shards: nothing written"}});
     return {command, [opt] { return command_merge(*opt); }};
 }
 

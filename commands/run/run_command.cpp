@@ -190,6 +190,10 @@ Command add_run_command(CLI::App& app) {
     command->add_option("--trajectory", opt->trajectory_args,
                         "NAME=FILE.csv: compare a recorded trajectory (the --trajectories CSV format) as simulator "
                         "NAME; with several scenarios NAME@SCENARIO=FILE.csv (repeatable)");
+    set_exit_status_help(*command, {{kOk, "ran, and every threshold held (with --baseline: and nothing changed beyond tolerance)"},
+                                   {kThresholdExceeded, "a threshold was exceeded, or with --baseline something changed: named"},
+                                   {kBadInput, "bad input or usage: nothing was run"},
+                                   {kSimulatorFailed, "a simulator failed: the other results and every report are still written"}});
     return {command, [opt] { return command_run(*opt); }};
 }
 

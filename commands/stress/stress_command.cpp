@@ -251,6 +251,10 @@ Command add_stress_command(CLI::App& app) {
     command->add_option("--seed", opt->monte_carlo.seed, "Seed of the Monte-Carlo set")->capture_default_str();
     add_shard_option(*command, opt->shard);
     add_external_options(*command, opt->external);
+    set_exit_status_help(*command, {{kOk, "every invariant held"},
+                                   {kThresholdExceeded, "an invariant broke: the simulator, scenario and invariant are named"},
+                                   {kBadInput, "bad input or usage: nothing was run"},
+                                   {kSimulatorFailed, "a simulator crashed, gave up or hung (wins over 1)"}});
     return {command, [opt] { return command_stress(*opt); }};
 }
 

@@ -238,6 +238,9 @@ Command add_sweep_command(CLI::App& app) {
     add_no_timings_flag(*command, opt->no_timings);
     add_shard_option(*command, opt->shard);
     add_external_options(*command, opt->external);
+    set_exit_status_help(*command, {{kOk, "every (simulator, dt) pair ran or was skipped"},
+                                   {kBadInput, "bad input or usage: nothing was run"},
+                                   {kSimulatorFailed, "a pair failed, crashed or hung: the other rows are still written"}});
     return {command, [opt] { return command_sweep(*opt); }};
 }
 

@@ -41,6 +41,8 @@ Command add_validate_command(CLI::App& app) {
     CLI::App* command = app.add_subcommand("validate", "Check scenario files without running them");
     command->add_option("files", opt->files, "Scenario files")->required();
     add_external_options(*command, opt->external);
+    set_exit_status_help(*command, {{kOk, "every file is a valid scenario"},
+                                   {kBadInput, "a file is not: each error as FILE:LINE:COLUMN: KEY: REASON"}});
     return {command, [opt] { return command_validate(*opt); }};
 }
 
