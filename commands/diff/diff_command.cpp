@@ -23,7 +23,7 @@ struct DiffOptions {
     std::string out_dir = "bouncecheck-out";
 };
 
-// Exit status of diff (README): 0 nothing changed beyond tolerance, 1
+// Exit status of diff (docs/cli.md): 0 nothing changed beyond tolerance, 1
 // something did, 2 bad input.
 int command_diff(const DiffOptions& opt) {
     const auto tolerances = opt.judging.tolerances();

@@ -133,7 +133,7 @@ std::optional<StressPlan> plan_stress(const StressOptions& opt) {
     return plan;
 }
 
-// Exit status of stress (README): 0 every invariant held; 1 an invariant
+// Exit status of stress (docs/stress.md): 0 every invariant held; 1 an invariant
 // broke, a finding about a simulator; 3 a simulator threw or gave up, so the
 // matrix has a hole (over 1: the run is incomplete), or one hung and was
 // killed; 2 bad input.

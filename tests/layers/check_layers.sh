@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The include rule of the source tree (README, "Layout"): the top-level
+# The include rule of the source tree (docs/internals.md): the top-level
 # folders form layers, from the bottom
 #
 #   platform  scenarios  simulators  reference|exact|engines|external  registry
@@ -40,7 +40,7 @@ for dir in */; do
   mapfile -t found < <(find "$folder" -type f \( -name '*.h' -o -name '*.cpp' \) | sort)
   ((${#found[@]})) || continue
   if [[ -z "${rank[$folder]+x}" ]]; then
-    echo "$folder/: holds C++ sources but is in no layer: give it its place in LAYERS (tests/layers/check_layers.sh) and in the README's layout"
+    echo "$folder/: holds C++ sources but is in no layer: give it its place in LAYERS (tests/layers/check_layers.sh) and in docs/internals.md"
     status=1
     continue
   fi
