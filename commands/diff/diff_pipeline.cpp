@@ -98,15 +98,23 @@ std::map<std::string, json> by_key(const json& array, const char* key, const cha
     return out;
 }
 
-void diff_maps(Differ& d, DiffSection section, const std::string& kind, const std::string& prefix,
-               const std::map<std::string, json>& a, const std::map<std::string, json>& b) {
+// Each key of either map, with its value on both sides (kAbsent where one lacks it).
+template <typename F>
+void for_each_key_of_both(const std::map<std::string, json>& a, const std::map<std::string, json>& b, F&& f) {
     std::set<std::string> keys;
     for (const auto& [k, v] : a) keys.insert(k);
     for (const auto& [k, v] : b) keys.insert(k);
     for (const std::string& k : keys) {
         const auto ia = a.find(k), ib = b.find(k);
-        d.exact(section, kind, prefix + k, ia == a.end() ? kAbsent : ia->second, ib == b.end() ? kAbsent : ib->second);
+        f(k, ia == a.end() ? kAbsent : ia->second, ib == b.end() ? kAbsent : ib->second);
     }
+}
+
+void diff_maps(Differ& d, DiffSection section, const std::string& kind, const std::string& prefix,
+               const std::map<std::string, json>& a, const std::map<std::string, json>& b) {
+    for_each_key_of_both(a, b, [&](const std::string& k, const json& x, const json& y) {
+        d.exact(section, kind, prefix + k, x, y);
+    });
 }
 
 std::map<std::string, json> members(const json& object) {
@@ -127,28 +135,17 @@ void diff_inputs(Differ& d, const json& a, const json& b) {
     };
     for (const auto& [field_name, input] : kFields)
         d.exact(DiffSection::input, "inputs", input, field(a, field_name), field(b, field_name));
-    const auto engines_a = members(field(a, "engines")), engines_b = members(field(b, "engines"));
-    std::set<std::string> engines;
-    for (const auto& [name, table] : engines_a) engines.insert(name);
-    for (const auto& [name, table] : engines_b) engines.insert(name);
-    for (const std::string& name : engines) {
-        const auto ta = engines_a.find(name), tb = engines_b.find(name);
-        const json& table_a = ta == engines_a.end() ? kAbsent : ta->second;
-        const json& table_b = tb == engines_b.end() ? kAbsent : tb->second;
-        // A table added or removed shows as each of its keys, absent on one side.
-        diff_maps(d, DiffSection::input, "inputs", "[engines." + name + "] ", members(table_a), members(table_b));
-    }
+    // Each [engines.NAME] and [thresholds.NAME] table key by key: a table
+    // added or removed shows as each of its keys, absent on one side.
+    const auto tables = [&](const std::string& section, const json& x, const json& y) {
+        for_each_key_of_both(members(x), members(y), [&](const std::string& name, const json& p, const json& q) {
+            diff_maps(d, DiffSection::input, "inputs", "[" + section + "." + name + "] ", members(p), members(q));
+        });
+    };
+    tables("engines", field(a, "engines"), field(b, "engines"));
     const json &ta = field(a, "thresholds"), &tb = field(b, "thresholds");
     diff_maps(d, DiffSection::input, "inputs", "[thresholds] ", members(field(ta, "all")), members(field(tb, "all")));
-    const auto sims_a = members(field(ta, "simulators")), sims_b = members(field(tb, "simulators"));
-    std::set<std::string> sims;
-    for (const auto& [name, set] : sims_a) sims.insert(name);
-    for (const auto& [name, set] : sims_b) sims.insert(name);
-    for (const std::string& name : sims) {
-        const auto sa = sims_a.find(name), sb = sims_b.find(name);
-        diff_maps(d, DiffSection::input, "inputs", "[thresholds." + name + "] ",
-                  members(sa == sims_a.end() ? kAbsent : sa->second), members(sb == sims_b.end() ? kAbsent : sb->second));
-    }
+    tables("thresholds", field(ta, "simulators"), field(tb, "simulators"));
 }
 
 // Why each setting change happened: the first input of its scenario that
