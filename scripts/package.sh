@@ -13,8 +13,10 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD_DIR="${BUILD_DIR:-$ROOT/build}"
 export BUILD_DIR
 
-# help2man writes the man page; dpkg-dev has dpkg-shlibdeps.
-"$ROOT/scripts/packages.sh" help2man dpkg-dev
+# help2man writes the man page; dpkg-dev has dpkg-shlibdeps; CPack's DEB
+# generator runs `file` on every installed file to find the ones
+# dpkg-shlibdeps reads (a minimal Debian has no `file`).
+"$ROOT/scripts/packages.sh" help2man dpkg-dev file
 "$ROOT/scripts/setup.sh" "$@"
 (cd "$BUILD_DIR" && cpack -G DEB > "$BUILD_DIR/package.log" 2>&1) || { cat "$BUILD_DIR/package.log"; exit 1; }
 deb="$(ls -t "$BUILD_DIR"/bouncecheck_*_"$(dpkg --print-architecture)".deb | head -n 1)"
