@@ -227,32 +227,27 @@ std::string format_manifest(const Manifest& m) {
     return out;
 }
 
-std::optional<OutputFolder> OutputFolder::open(const fs::path& dir) {
+std::optional<OutputFolder> OutputFolder::open(const fs::path& dir, std::string* error) {
+    const auto refuse = [&](std::string why) -> std::optional<OutputFolder> {
+        if (error) *error = std::move(why);
+        else fmt::print(stderr, "error: {}\n", why);
+        return std::nullopt;
+    };
     try {
         fs::create_directories(dir);
     } catch (const std::exception& e) {
-        fmt::print(stderr, "error: --out: cannot create {}: {}\n", dir.string(), e.what());
-        return std::nullopt;
+        return refuse(fmt::format("--out: cannot create {}: {}", dir.string(), e.what()));
     }
     std::error_code ec;
-    if (!fs::is_directory(dir, ec)) {
-        fmt::print(stderr, "error: --out: {} is not a folder\n", dir.string());
-        return std::nullopt;
-    }
+    if (!fs::is_directory(dir, ec)) return refuse(fmt::format("--out: {} is not a folder", dir.string()));
     // Found now, not after every simulation has run.
     const fs::path probe = dir / fmt::format(".bouncecheck-write-check.{}", ::getpid());
     const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
-    if (fd < 0) {
-        fmt::print(stderr, "error: --out: cannot write in {}: {}\n", dir.string(), std::strerror(errno));
-        return std::nullopt;
-    }
+    if (fd < 0) return refuse(fmt::format("--out: cannot write in {}: {}", dir.string(), std::strerror(errno)));
     ::close(fd);
     ::unlink(probe.c_str());
     auto previous = read_manifest(dir);
-    if (auto* error = std::get_if<std::string>(&previous)) {
-        fmt::print(stderr, "error: {}\n", *error);
-        return std::nullopt;
-    }
+    if (auto* why = std::get_if<std::string>(&previous)) return refuse(*why);
     return OutputFolder(dir, std::move(std::get<Manifest>(previous)));
 }
 

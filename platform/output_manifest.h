@@ -60,10 +60,10 @@ struct ManifestUpdate {
 class OutputFolder {
 public:
     // Creates `dir` if needed, checks that a file can be created in it and
-    // reads its manifest. On failure prints the reason (naming the folder or
-    // the manifest's line) and returns nothing: the caller exits 2 before
-    // running anything.
-    static std::optional<OutputFolder> open(const std::filesystem::path& dir);
+    // reads its manifest. On failure gives the reason (naming the folder or
+    // the manifest's line) in `error`, or prints it on stderr without one,
+    // and returns nothing: the caller exits 2 before running anything.
+    static std::optional<OutputFolder> open(const std::filesystem::path& dir, std::string* error = nullptr);
 
     const std::filesystem::path& dir() const { return dir_; }
 

@@ -6,7 +6,9 @@
 # in that root builds the .deb, and a second fresh root installs it with apt
 # (which pulls in its dependencies) and runs the installed
 # /usr/bin/bouncecheck on the installed bundled scenarios: exit 0, every
-# engine module found under /usr/lib/bouncecheck, none failing to load.
+# engine module found under /usr/lib/bouncecheck, none failing to load. Then
+# the C++ API: examples/cmake-consumer, copied into that root, is built
+# against the package with find_package(bouncecheck CONFIG) and tested.
 # Prints each command's wall time and exit status; exits 1 if any failed, 2
 # on a usage or set-up problem.
 #
@@ -204,6 +206,21 @@ bouncecheck run --out out > run.txt 2>&1 || { status=$?; cat run.txt; exit $stat
 test -f out/report.html && test -f /usr/share/man/man1/bouncecheck.1.gz
 echo "installed bouncecheck: every module under /usr/lib/bouncecheck/engines, the bundled run exit 0"'
 
+# In the installed root: examples/cmake-consumer built against the package
+# with find_package(bouncecheck CONFIG) alone, its tests run (its wrong toy's
+# failure among them, as a test that expects it), and the wrong toy run on
+# its own: it must fail, showing the harness's table.
+CONSUMER_CHECK='set -e
+DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends build-essential cmake libgtest-dev \
+  libeigen3-dev libfmt-dev nlohmann-json3-dev libtomlplusplus-dev > apt-consumer.log 2>&1 || { tail -n 30 apt-consumer.log; exit 1; }
+cmake -S cmake-consumer -B consumer-build > consumer.log 2>&1 || { cat consumer.log; exit 1; }
+cmake --build consumer-build -j "$(nproc)" >> consumer.log 2>&1 || { tail -n 40 consumer.log; exit 1; }
+ctest --test-dir consumer-build --output-on-failure
+status=0
+consumer-build/consumer_tests --gtest_also_run_disabled_tests --gtest_filter="*WrongAlpha*" > wrong.log 2>&1 || status=$?
+[ "$status" -ne 0 ] && grep -q "apex err" wrong.log || { cat wrong.log; echo "the wrong toy did not fail with the table"; exit 1; }
+echo "examples/cmake-consumer: built against the package, its tests pass, the wrong toy fails with the table"'
+
 main() {
   local root commands tarball fs failed=0 deb
   root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -249,6 +266,10 @@ main() {
       --no-install-recommends ./$(basename "$deb") > apt.log 2>&1 || { tail -n 30 apt.log; exit 1; }" \
       "apt-get install ./$(basename "$deb")" || failed=1
     ((failed == 0)) && { run_in_root "$WORK/installed" /root "$INSTALLED_CHECK" "installed bouncecheck run" || failed=1; }
+    if ((failed == 0)); then
+      cp -r "$ROOTFS/root/bouncecheck/examples/cmake-consumer" "$WORK/installed/root/cmake-consumer"
+      run_in_root "$WORK/installed" /root "$CONSUMER_CHECK" "cmake-consumer" || failed=1
+    fi
   else
     failed=1
   fi

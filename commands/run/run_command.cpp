@@ -141,9 +141,7 @@ int command_run(RunOptions opt) {
                             opt.judging.ratio());
     const bool changed = diff && diff->changed();
     RunVerdict verdict = run_verdict(report, changed);
-    verdict.exit_status = !verdict.failed.empty()                      ? kSimulatorFailed
-                          : !verdict.exceeded.empty() || changed ? kThresholdExceeded
-                                                                       : kOk;
+    verdict.exit_status = run_exit_status(verdict);
     WrittenFiles written = write_reports(report, out_dir, &verdict);
     fmt::print("\nwrote report.html, report.json, report.md, junit.xml and bounces.csv in {}\n", out_dir.string());
     fmt::print("{}\n", format_provenance(report.provenance));

@@ -1,5 +1,6 @@
 #include "commands/run/run_pipeline.h"
 
+#include "commands/command.h"
 #include "commands/wire.h"
 #include "exact/exact_simulator.h"
 #include "metrics/summary.h"
@@ -247,6 +248,11 @@ ComparedRun run_compared(const Simulator& sim, const Scenario& s, const RunReque
         o.plot = std::move(plot);
     }
     return o;
+}
+
+int run_exit_status(const RunVerdict& v) {
+    if (!v.failed.empty()) return kSimulatorFailed;
+    return !v.exceeded.empty() || v.baseline_changed ? kThresholdExceeded : kOk;
 }
 
 ScenarioRun run_scenario(const Scenario& s, const RunRequest& request) {

@@ -64,4 +64,9 @@ ComparedRun run_compared(const Simulator& sim, const Scenario& s, const RunReque
 // recorded as failed; the others still run.
 ScenarioRun run_scenario(const Scenario& s, const RunRequest& request);
 
+// The run's exit status from its verdict (commands/command.h: the contract):
+// 3 a simulator failed, else 1 a threshold was exceeded or the baseline
+// changed, else 0.
+int run_exit_status(const RunVerdict& verdict);
+
 }  // namespace bouncecheck

@@ -24,7 +24,7 @@ ROOT="${1:?usage: check_layers.sh ROOT}"
 cd "$ROOT"
 
 LAYERS=(platform scenarios simulators "reference exact engines external" registry
-        metrics comparison verdicts reports commands cli)
+        metrics comparison verdicts reports commands api cli)
 FRONT_ENDS=" tests bench fuzz examples "
 
 declare -A rank=()
