@@ -12,6 +12,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <exception>
 #include <sstream>
@@ -123,6 +124,19 @@ void record_outputs(OutputFolder& out, std::string_view kind, const WrittenFiles
     }
 }
 
+CLI::Validator finite_between(double min, double max) {
+    return CLI::Validator(
+        [min, max](std::string& text) -> std::string {
+            const std::string shown = text.size() > 40 ? text.substr(0, 40) + "..." : text;
+            double value = 0;
+            if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value))
+                return fmt::format("'{}' is not a finite number", shown);
+            if (value < min || value > max) return fmt::format("{} is outside [{:g}, {:g}]", shown, min, max);
+            return {};
+        },
+        fmt::format("FLOAT in [{:g}, {:g}]", min, max));
+}
+
 void add_external_options(CLI::App& command, ExternalOptions& options) {
     command.add_option("--external", options.declarations,
                        "NAME=COMMAND: run COMMAND (split on whitespace, no shell) as simulator NAME through the "
@@ -130,7 +144,7 @@ void add_external_options(CLI::App& command, ExternalOptions& options) {
     command.add_option("--external-timeout", options.timeout_seconds,
                        "Seconds an external simulator may go without output before it is killed")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(finite_between(0.001, 1e6));
 }
 
 namespace {

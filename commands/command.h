@@ -25,6 +25,7 @@
 namespace CLI {
 class App;
 class Option;
+class Validator;
 }
 
 namespace bouncecheck {
@@ -74,6 +75,11 @@ CLI::Option* add_list_option(CLI::App& command, const std::string& name, std::ve
 
 // --no-timings, the same in every command that writes timings.
 void add_no_timings_flag(CLI::App& command, bool& no_timings);
+
+// The check of a number option: finite and within [min, max]. CLI11's own
+// Range lets NaN through (every comparison with it is false) and prints a
+// refused 1e400 in 309 digits; this names the value as it was typed.
+CLI::Validator finite_between(double min, double max);
 
 // The simulators --engines names (every one in `all` if empty), in its order,
 // without `excluded`. An unknown or excluded name is reported, with the

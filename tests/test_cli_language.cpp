@@ -225,3 +225,35 @@ TEST(CliLanguage, ListIsAlignedAndHasJson) {
 }
 
 }  // namespace
+
+namespace bouncecheck {
+namespace {
+
+// Numbers on the command line are finite and in range, or refused before
+// anything runs, the value named as typed (the hostile audit's finding 11:
+// NaN passed CLI11's range checks, and 1e400 was printed in 309 digits).
+TEST(CliLanguage, NumberOptionsRefuseNanInfinityAndTheOutOfRange) {
+    const std::string seed = std::string(BOUNCECHECK_SCENARIO_DIR) + "/seed-2d.toml";
+    const struct {
+        std::string args, message;
+    } cases[] = {
+        {"run " + seed + " --engines reference --budget nan", "--budget: 'nan' is not a finite number"},
+        {"run " + seed + " --engines reference --budget inf", "--budget: 'inf' is not a finite number"},
+        {"run " + seed + " --engines reference --budget 1e400", "--budget: '1e400' is not a finite number"},
+        {"run " + seed + " --engines reference --external-timeout nan", "--external-timeout: 'nan' is not a finite"},
+        {"run " + seed + " --engines reference --external-timeout 1e10", "--external-timeout: 1e10 is outside [0.001, 1e+06]"},
+        {"stress --only dead-ball --budget nan", "--budget: 'nan' is not a finite number"},
+        {"sweep " + seed + " --budget -nan", "--budget: '-nan' is not a finite number"},
+        {"calibrate " + seed + " --engines ode --max-mu nan", "--max-mu: 'nan' is not a finite number"},
+        {"diff a b --timing-ratio nan", "--timing-ratio: 'nan' is not a finite number"},
+    };
+    for (const auto& c : cases) {
+        const test::CliResult r = test::bouncecheck(c.args);
+        EXPECT_EQ(r.status, 2) << c.args << "\n" << r.output;
+        EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
+        EXPECT_EQ(r.output.find("00000000000000000000"), std::string::npos) << r.output;
+    }
+}
+
+}  // namespace
+}  // namespace bouncecheck

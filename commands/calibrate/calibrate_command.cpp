@@ -89,7 +89,7 @@ Command add_calibrate_command(CLI::App& app) {
     add_list_option(*command, "--engines,--engine", opt->engines, "The engine to calibrate (one)")->required();
     command->add_option("--max-mu", opt->max_mu, "Upper end of the search")
         ->capture_default_str()
-        ->check(CLI::Range(1e-3, 10.0));
+        ->check(finite_between(1e-3, 10.0));
     command
         ->add_option("--against", opt->against,
                      "Baseline to come closest to: reference (the document's Euler) or exact (the law's solution)")

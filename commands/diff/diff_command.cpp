@@ -58,7 +58,7 @@ void add_diff_judging_options(CLI::App& command, DiffJudging& judging, const std
     command.add_option("--timing-ratio", judging.timing_ratio,
                        what + "count a run time above R times the old one as a regression (default: timings are "
                               "reported, not judged)")
-        ->check(CLI::PositiveNumber);
+        ->check(finite_between(1e-6, 1e6));
     command.add_flag("--all", judging.display.all,
                      what + "list every consequence, not only each group's count and largest change");
     command.add_flag("--timings", judging.display.timings,

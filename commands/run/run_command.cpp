@@ -175,7 +175,7 @@ Command add_run_command(CLI::App& app) {
     command->add_option("--budget", opt->budget,
                         "Wall-time limit of one engine's run of one scenario (s): past it the engine's worker process "
                         "is killed and the engine fails as hung (default: no limit; not with --in-process)")
-        ->check(CLI::Range(0.001, 1e7))
+        ->check(finite_between(0.001, 1e7))
         ->excludes("--in-process");
     add_no_timings_flag(*command, opt->no_timings);
     add_list_option(*command, "--threshold", opt->threshold_args,

@@ -243,7 +243,7 @@ Command add_stress_command(CLI::App& app) {
                         "Wall-time budget of one run (s); a run without a result after 1.5 x budget + 1 s is killed "
                         "and reported hung")
         ->capture_default_str()
-        ->check(CLI::Range(0.001, 86400.0));
+        ->check(finite_between(0.001, 86400.0));
     command->add_option("--monte-carlo", opt->monte_carlo.count,
                         "Size of the generated Monte-Carlo set; scenario n depends only on the seed and n")
         ->capture_default_str()

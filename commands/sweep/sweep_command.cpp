@@ -233,7 +233,7 @@ Command add_sweep_command(CLI::App& app) {
     command->add_option("--budget", opt->budget,
                         "Wall-time limit of one (simulator, dt) pair, its timed runs included (s): past it the pair "
                         "is killed and fails as hung (default: no limit)")
-        ->check(CLI::Range(0.001, 1e7));
+        ->check(finite_between(0.001, 1e7));
     command->add_option("--out", opt->out_dir, "Output folder for sweep.csv, sweep.json and sweep.html")->capture_default_str();
     add_no_timings_flag(*command, opt->no_timings);
     add_shard_option(*command, opt->shard);
