@@ -2,6 +2,7 @@
 
 #include "platform/atomic_file.h"
 #include "reports/provenance.h"
+#include "reports/json_number.h"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -56,7 +57,7 @@ WrittenFiles write_shard_file(const fs::path& out_dir, const ShardFile& file) {
 }
 
 std::string run_fingerprint(std::string_view command, std::string_view inputs) {
-    const std::string build = to_json(this_provenance(/*with_machine=*/false)).dump();
+    const std::string build = json_text(to_json(this_provenance(/*with_machine=*/false)));
     return fingerprint(fmt::format("{}\n{}\n{}", build, command, inputs));
 }
 

@@ -1,6 +1,7 @@
 #include "external/external_simulator.h"
 
 #include "external/trajectory_reader.h"
+#include "platform/printable_text.h"
 #include "platform/program.h"
 #include "simulators/stream_contacts.h"
 
@@ -8,12 +9,16 @@
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -45,11 +50,34 @@ public:
         fs::remove(path_, ec);
     }
     const std::string& path() const { return path_; }
+    // What the program wrote there. The program may have put anything in
+    // its place: a FIFO (opened without waiting, then refused), a link to
+    // /dev/zero or a huge file (refused from its size, before reading).
     std::string read() const {
-        std::ifstream in(path_, std::ios::binary);
-        std::stringstream text;
-        text << in.rdbuf();
-        return text.str();
+        const int fd = ::open(path_.c_str(), O_RDONLY | O_NONBLOCK | O_NOFOLLOW | O_CLOEXEC);
+        if (fd < 0) {
+            if (errno == ENOENT) return {};  // removed: no settings
+            throw std::runtime_error(fmt::format("cannot open it: {}", std::strerror(errno)));
+        }
+        struct stat info {};
+        const bool regular = ::fstat(fd, &info) == 0 && S_ISREG(info.st_mode);
+        if (!regular || info.st_size > static_cast<off_t>(kMaxExternalSettingsBytes)) {
+            ::close(fd);
+            throw std::runtime_error(regular ? fmt::format("{} bytes, over the limit of {}", info.st_size,
+                                                           kMaxExternalSettingsBytes)
+                                             : std::string("not a regular file"));
+        }
+        std::string text(static_cast<std::size_t>(info.st_size), '\0');
+        std::size_t got = 0;
+        while (got < text.size()) {
+            const ssize_t n = ::read(fd, text.data() + got, text.size() - got);
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0) break;
+            got += static_cast<std::size_t>(n);
+        }
+        ::close(fd);
+        text.resize(got);
+        return text;
     }
 
 private:
@@ -189,11 +217,19 @@ std::string external_input(const Scenario& s, const std::string& name, const std
         {"engine", table == s.passthrough_tables.end() ? json::object() : json::parse(table->second)},
         {"settings_file", settings_file},
     };
-    return j.dump() + "\n";
+    return j.dump(-1, ' ', false, json::error_handler_t::replace) + "\n";  // a path may not be UTF-8
 }
 
 std::vector<Setting> parse_external_settings(const std::string& text) {
-    const json j = json::parse(text, nullptr, /*allow_exceptions=*/false);
+    if (text.size() > kMaxExternalSettingsBytes)
+        throw std::runtime_error(fmt::format("{} bytes, over the limit of {}", text.size(), kMaxExternalSettingsBytes));
+    // An array of flat objects: anything nested deeper is refused as it is read.
+    const json::parser_callback_t depth_limit = [](int depth, json::parse_event_t, json&) {
+        if (depth > kMaxExternalSettingsDepth)
+            throw std::runtime_error(fmt::format("nested deeper than {} levels", kMaxExternalSettingsDepth));
+        return true;
+    };
+    const json j = json::parse(text, depth_limit, /*allow_exceptions=*/false);
     if (j.is_discarded()) throw std::runtime_error("not valid JSON");
     if (!j.is_array()) throw std::runtime_error("expected a JSON array of {\"key\", \"value\", \"why\"} objects");
     std::vector<Setting> settings;
@@ -208,8 +244,10 @@ std::vector<Setting> parse_external_settings(const std::string& text) {
         if (!value.is_string() && !value.is_number() && !value.is_boolean())
             throw bad("\"value\" must be a string, a number or a boolean");
         if (item.contains("why") && !item["why"].is_string()) throw bad("\"why\" must be a string");
-        settings.push_back({item["key"].get<std::string>(), value.is_string() ? value.get<std::string>() : value.dump(),
-                            item.value("why", std::string())});
+        // Shown on the terminal and in report.md: no escape sequence gets through.
+        settings.push_back({printable_text(item["key"].get<std::string>()),
+                            printable_text(value.is_string() ? value.get<std::string>() : value.dump()),
+                            printable_text(item.value("why", std::string()))});
     }
     return settings;
 }

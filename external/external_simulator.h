@@ -33,6 +33,11 @@ std::unique_ptr<const Simulator> make_imported_trajectory(std::string name, std:
 // The JSON object an external program reads on its standard input.
 std::string external_input(const Scenario& s, const std::string& name, const std::string& settings_file);
 
+// An external's settings file is a short JSON array of flat objects: at most
+// 1 MiB (so a value cannot balloon every report) and 8 levels deep.
+inline constexpr std::size_t kMaxExternalSettingsBytes = 1u << 20;
+inline constexpr int kMaxExternalSettingsDepth = 8;
+
 // The settings an external program wrote (a JSON array of {key, value, why});
 // throws std::runtime_error saying what is wrong with it.
 std::vector<Setting> parse_external_settings(const std::string& text);

@@ -1,5 +1,7 @@
 #include "external/trajectory_reader.h"
 
+#include "platform/printable_text.h"
+
 #include <fmt/format.h>
 
 #include <array>
@@ -21,9 +23,7 @@ constexpr std::array<const char*, 7> kColumns3d{"t", "x", "y", "z", "vx", "vy", 
 
 // Untrusted text quoted in a reason: short, one line.
 std::string quoted(std::string_view text) {
-    std::string out;
-    for (char c : text.substr(0, 40)) out += (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) ? '?' : c;
-    return fmt::format("'{}{}'", out, text.size() > 40 ? "..." : "");
+    return fmt::format("'{}{}'", printable_text(text.substr(0, 40)), text.size() > 40 ? "..." : "");
 }
 
 }  // namespace

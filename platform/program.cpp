@@ -1,5 +1,7 @@
 #include "platform/program.h"
 
+#include "platform/printable_text.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -128,7 +130,7 @@ std::string last_lines(std::string_view text, std::size_t count) {
     std::string out;
     for (std::size_t i = from; i < lines.size(); ++i) {
         if (i > from) out += " | ";
-        out += lines[i];
+        out += printable_text(lines[i]);  // a child may write anything: escapes, bytes that are not UTF-8
     }
     return out;
 }

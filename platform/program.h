@@ -23,7 +23,7 @@ std::optional<std::string> resolve_program(const std::string& program, const std
                                            std::string* why = nullptr);
 
 // The last `count` non-empty lines of `text`, joined by " | " (a child's
-// standard error, for a failure's reason).
+// standard error, for a failure's reason), made printable (printable_text).
 std::string last_lines(std::string_view text, std::size_t count);
 
 struct ProgramRequest {

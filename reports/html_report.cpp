@@ -4,6 +4,7 @@
 #include "reports/run_report.h"
 #include "reports/sweep_report.h"
 #include "reports/web_assets.h"
+#include "reports/json_number.h"
 
 #include <fmt/format.h>
 
@@ -111,12 +112,12 @@ Page to_html(const RunReport& report) {
     nlohmann::json plots = nlohmann::json::array();
     for (const ScenarioRun& run : report.scenarios) plots.push_back(scenario_plots_json(run));
     const nlohmann::json data = {{"kind", "run"}, {"report", to_json(report)}, {"plots", plots}};
-    return self_contained_page("bouncecheck report", data.dump());
+    return self_contained_page("bouncecheck report", json_text(data));
 }
 
 Page sweep_html(const nlohmann::json& sweep) {
     const nlohmann::json data = {{"kind", "sweep"}, {"sweep", sweep}};
-    return self_contained_page("bouncecheck sweep: " + sweep.value("scenario", std::string()), data.dump());
+    return self_contained_page("bouncecheck sweep: " + sweep.value("scenario", std::string()), json_text(data));
 }
 
 }  // namespace bouncecheck

@@ -241,7 +241,7 @@ nlohmann::json diff_json(const ReportDiff& d) {
 
 WrittenFiles write_diff(const ReportDiff& d, const std::filesystem::path& out_dir, const DiffDisplay& display) {
     write_file_atomically(out_dir / "diff.md", diff_markdown(d, display));
-    write_file_atomically(out_dir / "diff.json", diff_json(d).dump(2) + "\n");
+    write_file_atomically(out_dir / "diff.json", json_text(diff_json(d), 2) + "\n");
     return {"diff.md", "diff.json"};
 }
 

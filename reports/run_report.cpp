@@ -881,7 +881,7 @@ std::string bounces_csv(const RunReport& report) {
 
 WrittenFiles write_reports(const RunReport& report, const std::filesystem::path& out_dir, const RunVerdict* verdict) {
     WrittenFiles written = {"report.json", "report.md", "junit.xml", "bounces.csv"};
-    write_file_atomically(out_dir / "report.json", to_json(report).dump(2) + "\n");
+    write_file_atomically(out_dir / "report.json", json_text(to_json(report), 2) + "\n");
     write_file_atomically(out_dir / "report.md", to_markdown(report, verdict));
     write_file_atomically(out_dir / "junit.xml", to_junit(report));
     write_file_atomically(out_dir / "bounces.csv", bounces_csv(report));

@@ -258,7 +258,7 @@ void write_array(AtomicFile& file, std::size_t n, const std::function<nlohmann::
     std::string text = "[\n";
     for (std::size_t i = 0; i < n; ++i) {
         text += "    ";
-        for (const char c : element(i).dump(2)) {
+        for (const char c : json_text(element(i), 2)) {
             text += c;
             if (c == '\n') text += "    ";
         }
@@ -296,7 +296,7 @@ void write_stress_json(const std::filesystem::path& target, const StressReport& 
             {"results", kResultsSlot},
             {"generated_scenarios", kGeneratedSlot}};
     if (!provenance.is_null()) head["provenance"] = provenance;
-    const std::string text = head.dump(2) + "\n";
+    const std::string text = json_text(head, 2) + "\n";
     std::vector<const StressCase*> generated;
     for (const StressCase& c : cases)
         if (c.generated) generated.push_back(&c);

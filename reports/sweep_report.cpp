@@ -144,7 +144,7 @@ WrittenFiles write_sweep(const Scenario& s, const SweepResult& r, const nlohmann
                  const std::filesystem::path& out_dir, const nlohmann::json& provenance) {
     write_file_atomically(out_dir / "sweep.csv", sweep_csv(r));
     const nlohmann::json json = sweep_json(s, r, parameters, provenance);
-    write_file_atomically(out_dir / "sweep.json", json.dump(2) + "\n");
+    write_file_atomically(out_dir / "sweep.json", json_text(json, 2) + "\n");
     write_page(out_dir / "sweep.html", sweep_html(json));
     return {"sweep.csv", "sweep.json", "sweep.html"};
 }

@@ -22,14 +22,17 @@ std::string_view span(const char* begin, const char* end) {
     return {begin, static_cast<std::size_t>(end - begin)};
 }
 
-// Inside <script>, "</" could close the element early (e.g. a scenario named
-// "</script>"); "<\/" is the same string to JSON and to JavaScript.
+// Inside <script>, "</" could close the element early (a scenario named
+// "</script>"), and "<!--" followed by "<script" makes the parser swallow
+// the real "</script>", blanking the page (an external's stderr can hold
+// either). JSON has "<" only inside strings, where "\u003c" is the same
+// character to JSON and to JavaScript: no "<" is left at all.
 std::string script_safe_json(std::string_view json) {
     std::string out;
     out.reserve(json.size() + 16);
-    for (std::size_t i = 0; i < json.size(); ++i) {
-        out += json[i];
-        if (json[i] == '<' && i + 1 < json.size() && json[i + 1] == '/') out += '\\';
+    for (const char c : json) {
+        if (c == '<') out += "\\u003c";
+        else out += c;
     }
     return out;
 }

@@ -5,6 +5,7 @@
 #include "reports/run_report.h"
 #include "reports/stress_report.h"
 #include "reports/sweep_report.h"
+#include "reports/json_number.h"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -43,7 +44,7 @@ std::string show(const json& v) {
     if (v.is_string()) return v.get<std::string>();
     if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
     if (v.is_number_float()) return fmt::format("{:.10g}", v.get<double>());
-    return v.dump();
+    return json_text(v);
 }
 
 // Compares one scenario (its inputs) or one of its simulators, field by field, into `out`.

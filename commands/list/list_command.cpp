@@ -5,6 +5,7 @@
 
 #include "registry/registry.h"
 #include "scenarios/loader.h"
+#include "reports/json_number.h"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -74,7 +75,7 @@ int command_list(bool json) {
                 }
             doc["simulators"].push_back(std::move(entry));
         }
-        fmt::print("{}\n", doc.dump(2));
+        fmt::print("{}\n", json_text(doc, 2));
         return kOk;
     }
     // Columns as wide as their longest name, so that a long one never shifts the rest.

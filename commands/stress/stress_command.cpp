@@ -9,6 +9,7 @@
 #include "registry/registry.h"
 #include "reports/provenance.h"
 #include "scenarios/scenario_toml.h"
+#include "reports/json_number.h"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -85,7 +86,7 @@ struct StressPlan {
     std::string fingerprint(const StressOptions& opt) const {
         nlohmann::json options = to_json(opt);
         options.erase("jobs");
-        std::string inputs = fmt::format("{}\n{}\n{} cases\n", options.dump(), parameters(opt, {}).dump(), cases.size());
+        std::string inputs = fmt::format("{}\n{}\n{} cases\n", json_text(options), json_text(parameters(opt, {})), cases.size());
         for (const StressCase& c : cases)
             if (!c.generated) inputs += c.row + "\n" + scenario_toml(c.scenario);
         return run_fingerprint("stress", inputs);

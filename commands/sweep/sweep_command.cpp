@@ -7,6 +7,7 @@
 #include "reports/provenance.h"
 #include "scenarios/loader.h"
 #include "scenarios/scenario_toml.h"
+#include "reports/json_number.h"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -87,7 +88,7 @@ struct SweepPlan {
     std::string fingerprint(const SweepOptions& opt) const {
         nlohmann::json options = to_json(opt);
         options.erase("jobs");
-        return run_fingerprint("sweep", options.dump() + "\n" + parameters(opt, {}).dump() + "\n" +
+        return run_fingerprint("sweep", json_text(options) + "\n" + json_text(parameters(opt, {})) + "\n" +
                                             scenario_toml(scenario));
     }
 };
