@@ -1,6 +1,8 @@
 #include "commands/shards.h"
 
 #include "platform/atomic_file.h"
+#include "platform/cbor_check.h"
+#include "platform/digest.h"
 #include "reports/provenance.h"
 #include "reports/json_number.h"
 
@@ -9,11 +11,18 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <cstdint>
 #include <fstream>
 #include <iterator>
 #include <map>
 #include <utility>
+#include <variant>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -37,6 +46,25 @@ Shard shard_of(const std::string& text) {
     return text.empty() ? Shard{} : parse_shard(text, error).value_or(Shard{});
 }
 
+namespace {
+
+// What the digest covers: every field merge uses, each length-prefixed, so
+// that a flipped byte anywhere in them is noticed (CBOR that stays valid
+// after a flip otherwise merges silently: a tolerance 0.025 became 0.026953125).
+std::string shard_digest(const ShardFile& file) {
+    Fnv1a64 hash;
+    const auto field = [&](std::string_view bytes) { hash.add(fmt::format("{}:", bytes.size())).add(bytes); };
+    field(file.command);
+    field(fmt::format("{}/{} {} {:a}", file.shard.index, file.shard.count, file.pairs, file.wall_seconds));
+    field(file.fingerprint);
+    field(json_text(file.options));
+    for (const std::size_t slot : file.slots) field(std::to_string(slot));
+    for (const std::string& result : file.results) field(result);
+    return fmt::format("{:016x}", hash.value());
+}
+
+}  // namespace
+
 WrittenFiles write_shard_file(const fs::path& out_dir, const ShardFile& file) {
     nlohmann::json results = nlohmann::json::array();
     for (const std::string& bytes : file.results)
@@ -49,7 +77,8 @@ WrittenFiles write_shard_file(const fs::path& out_dir, const ShardFile& file) {
                               {"options", file.options},
                               {"wall_seconds", file.wall_seconds},
                               {"slots", file.slots},
-                              {"results", std::move(results)}};
+                              {"results", std::move(results)},
+                              {"digest", shard_digest(file)}};
     const std::vector<std::uint8_t> bytes = nlohmann::json::to_cbor(j);
     write_file_atomically(out_dir / kShardFileName,
                           std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
@@ -63,18 +92,54 @@ std::string run_fingerprint(std::string_view command, std::string_view inputs) {
 
 namespace {
 
+// The shard file's bytes, opened without waiting (a FIFO in its place is
+// refused, not waited on) and refused past kMaxShardFileBytes from its size.
+std::variant<std::string, std::string> read_shard_bytes(const fs::path& path) {
+    using Result = std::variant<std::string, std::string>;
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) return Result(std::in_place_index<1>, std::strerror(errno));
+    struct stat info {};
+    if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode)) {
+        ::close(fd);
+        return Result(std::in_place_index<1>, "not a regular file");
+    }
+    if (static_cast<std::uintmax_t>(info.st_size) > kMaxShardFileBytes) {
+        ::close(fd);
+        return Result(std::in_place_index<1>,
+                      fmt::format("{} bytes, over the limit of {}", info.st_size, kMaxShardFileBytes));
+    }
+    std::string bytes(static_cast<std::size_t>(info.st_size), '\0');
+    std::size_t got = 0;
+    while (got < bytes.size()) {
+        const ssize_t n = ::read(fd, bytes.data() + got, bytes.size() - got);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;
+        got += static_cast<std::size_t>(n);
+    }
+    ::close(fd);
+    bytes.resize(got);
+    return Result(std::in_place_index<0>, std::move(bytes));
+}
+
 std::optional<ShardFile> read_shard_file(const fs::path& dir) {
     const fs::path path = dir / kShardFileName;
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
+    if (!fs::exists(fs::symlink_status(path))) {
         fmt::print(stderr, "error: {}: cannot read {} (not an output folder of `stress --shard` or `sweep --shard`?)\n",
                    dir.string(), kShardFileName);
         return std::nullopt;
     }
+    auto read = read_shard_bytes(path);
+    if (read.index() == 1) {
+        fmt::print(stderr, "error: {}: cannot read: {}\n", path.string(), std::get<1>(read));
+        return std::nullopt;
+    }
+    const std::string& bytes = std::get<0>(read);
     try {
-        const nlohmann::json j = nlohmann::json::from_cbor(in);
+        // Checked before decoding: nlohmann's decoder recurses once per level.
+        if (auto problem = cbor_problem(bytes, kMaxShardFileDepth)) throw std::runtime_error(*problem);
+        const nlohmann::json j = nlohmann::json::from_cbor(bytes);
         if (j.at("schema") != kShardSchema) {
-            fmt::print(stderr, "error: {}: schema {}, expected \"{}\"\n", path.string(), j.at("schema").dump(),
+            fmt::print(stderr, "error: {}: schema {}, expected \"{}\"\n", path.string(), json_text(j.at("schema")),
                        kShardSchema);
             return std::nullopt;
         }
@@ -92,8 +157,14 @@ std::optional<ShardFile> read_shard_file(const fs::path& dir) {
         }
         if (file.slots.size() != file.results.size())
             throw std::runtime_error(fmt::format("{} slots for {} results", file.slots.size(), file.results.size()));
-        if (file.shard.index < 1 || file.shard.index > file.shard.count)
-            throw std::runtime_error(fmt::format("shard {} is not K/N with 1 <= K <= N", to_string(file.shard)));
+        if (file.shard.count < 1 || file.shard.count > kMaxShards || file.shard.index < 1 ||
+            file.shard.index > file.shard.count)
+            throw std::runtime_error(fmt::format("shard {} is not K/N with 1 <= K <= N <= {}", to_string(file.shard),
+                                                 kMaxShards));
+        if (!j.contains("digest"))
+            throw std::runtime_error("no digest (written by an older bouncecheck: run the shard again)");
+        if (j.at("digest").get<std::string>() != shard_digest(file))
+            throw std::runtime_error("its digest does not match its contents: the file changed after it was written");
         return file;
     } catch (const std::exception& e) {
         fmt::print(stderr, "error: {}: unreadable: {}\n", path.string(), e.what());
@@ -135,12 +206,24 @@ std::optional<ShardSet> read_shards(const std::vector<fs::path>& dirs) {
         }
     }
     if (!ok) return std::nullopt;
-    std::vector<std::string> missing;
-    for (int k = 1; k <= first.shard.count; ++k)
-        if (!by_index.count(k)) missing.push_back(to_string(Shard{k, first.shard.count}));
-    if (!missing.empty()) {
-        fmt::print(stderr, "error: missing shard{} {} of the run ({} of {} given)\n", missing.size() > 1 ? "s" : "",
-                   fmt::join(missing, ", "), files.size(), first.shard.count);
+    if (files.size() < static_cast<std::size_t>(first.shard.count)) {
+        // The first few missing, found among the first files.size() + 5 indices.
+        std::vector<std::string> missing;
+        for (int k = 1; k <= first.shard.count && missing.size() < 5; ++k)
+            if (!by_index.count(k)) missing.push_back(to_string(Shard{k, first.shard.count}));
+        const std::size_t count = static_cast<std::size_t>(first.shard.count) - files.size();
+        fmt::print(stderr, "error: missing shard{} {}{} of the run ({} of {} given)\n", count > 1 ? "s" : "",
+                   fmt::join(missing, ", "), count > missing.size() ? fmt::format(" and {} more", count - missing.size()) : "",
+                   files.size(), first.shard.count);
+        return std::nullopt;
+    }
+    // The header's pair count against the pairs the shards hold, before
+    // anything is sized by it.
+    std::size_t held = 0;
+    for (const ShardFile& f : files) held += f.slots.size();
+    if (held != first.pairs) {
+        fmt::print(stderr, "error: the shards hold {} pairs, where their headers say the run has {}\n", held,
+                   first.pairs);
         return std::nullopt;
     }
 

@@ -24,6 +24,11 @@ namespace bouncecheck {
 
 inline constexpr const char* kShardFileName = "shard.cbor";
 inline constexpr const char* kShardSchema = "bouncecheck-shard/1";
+// A shard file holds its pairs' results: a million-scenario stress shard's
+// are gigabytes. Past this it is not one; nested past kMaxShardFileDepth it
+// is refused before it is decoded (the format nests 6 levels at most).
+inline constexpr std::uintmax_t kMaxShardFileBytes = std::uintmax_t{64} << 30;
+inline constexpr std::size_t kMaxShardFileDepth = 32;
 
 // --shard K/N.
 void add_shard_option(CLI::App& command, std::string& shard);

@@ -1,6 +1,7 @@
 #include "platform/output_manifest.h"
 
 #include "platform/atomic_file.h"
+#include "platform/digest.h"
 
 #include <fmt/format.h>
 
@@ -155,7 +156,7 @@ std::string names(const std::vector<std::string>& paths) {
 std::optional<std::uint64_t> file_digest(const fs::path& file) {
     const int fd = ::open(file.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
     if (fd < 0) return std::nullopt;
-    std::uint64_t h = 1469598103934665603ull;
+    Fnv1a64 hash;
     std::string buffer(1 << 16, '\0');
     for (;;) {
         const ssize_t n = ::read(fd, buffer.data(), buffer.size());
@@ -165,10 +166,10 @@ std::optional<std::uint64_t> file_digest(const fs::path& file) {
             return std::nullopt;
         }
         if (n == 0) break;
-        for (ssize_t i = 0; i < n; ++i) h = (h ^ static_cast<unsigned char>(buffer[i])) * 1099511628211ull;
+        hash.add(std::string_view(buffer.data(), static_cast<std::size_t>(n)));
     }
     ::close(fd);
-    return h;
+    return hash.value();
 }
 
 std::variant<Manifest, std::string> parse_manifest(std::string_view text) {

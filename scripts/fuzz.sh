@@ -3,6 +3,7 @@
 # a bounded time, one after another:
 #   fuzz_scenario_loader   the scenario loader (parse + validation, as `bouncecheck validate`)
 #   fuzz_output_manifest   an output folder's manifest (bouncecheck-manifest.tsv)
+#   fuzz_cbor_check        the check before merge decodes a shard file's CBOR, and the decoder after it
 #
 #   scripts/fuzz.sh [SECONDS]      # per target; default 300
 #
@@ -11,7 +12,7 @@
 # Each target's corpus grows in build-fuzz/corpus/<target>/ from run to run;
 # each run is seeded afresh: the loader with the bundled scenarios, the
 # broken ones under tests/data/invalid/ and fuzz/seeds/; the manifest with
-# fuzz/seeds-manifest/. Fails on any finding: the input is kept in
+# fuzz/seeds-manifest/; the CBOR check with fuzz/seeds-cbor/. Fails on any finding: the input is kept in
 # build-fuzz/findings/<target>/ (reproduce: build-fuzz/fuzz/<target> FILE).
 set -euo pipefail
 
@@ -31,7 +32,7 @@ cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_C
   -DBOUNCECHECK_WITH_BULLET=OFF -DBOUNCECHECK_WITH_ODE=OFF -DBOUNCECHECK_WITH_BOX2D=OFF \
   -DBOUNCECHECK_WITH_MUJOCO=OFF -DBOUNCECHECK_WITH_CHIPMUNK=OFF -DBOUNCECHECK_WITH_SICONOS=OFF -DBOUNCECHECK_WITH_DART=OFF \
   > "$BUILD_DIR/configure.log" 2>&1 || { cat "$BUILD_DIR/configure.log"; exit 1; }
-cmake --build "$BUILD_DIR" --target fuzz_scenario_loader fuzz_output_manifest -j "$(nproc)"
+cmake --build "$BUILD_DIR" --target fuzz_scenario_loader fuzz_output_manifest fuzz_cbor_check -j "$(nproc)"
 
 # fuzz TARGET SEED_DIR [-dict=FILE]: one process on one core for SECONDS_TO_RUN.
 # -timeout turns a hang (an input taking over 10 s) into a finding;
@@ -66,6 +67,7 @@ for f in "$ROOT"/tests/data/invalid/*.toml; do cp "$f" "$seeds/invalid-$(basenam
 for f in "$ROOT"/fuzz/seeds/*; do cp "$f" "$seeds/fuzz-$(basename "$f")"; done
 fuzz fuzz_scenario_loader "$seeds" -dict="$ROOT/fuzz/toml.dict"
 fuzz fuzz_output_manifest "$ROOT/fuzz/seeds-manifest"
+fuzz fuzz_cbor_check "$ROOT/fuzz/seeds-cbor"
 
 ((failed == 0)) || exit 1
 echo "fuzz: no finding"

@@ -1,6 +1,8 @@
 // Sharded runs (`stress --shard K/N`, `sweep --shard K/N`) and `bouncecheck
 // merge`: the assignment of pairs to shards, and merged output equal to the
 // unsharded run's apart from timings, end to end through the built binary.
+#include "commands/shards.h"
+#include "platform/cbor_check.h"
 #include "platform/shard.h"
 #include "tests/support/cli.h"
 
@@ -18,6 +20,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <sys/stat.h>
 
 namespace fs = std::filesystem;
 using namespace bouncecheck;
@@ -262,6 +266,86 @@ TEST_F(Merge, RefusesAnIncompleteMixedOrRepeatedSetOfShards) {
     // The same set merges.
     EXPECT_LE(test::bouncecheck(fmt::format("merge {} {} {} {}", at("merged"), at("s1"), at("s2"), at("s3"))).status, 1);
     EXPECT_TRUE(fs::exists(dir_ / "merged" / "stress.json"));
+}
+
+// cbor_problem, the walk that stands between a shard file and the decoder.
+TEST(CborCheck, RefusesWhatTheDecoderWouldChokeOnAndPassesWhatItWrites) {
+    const nlohmann::json doc = {{"a", {1, 2.5, "x", nullptr, true}},
+                                {"b", nlohmann::json::binary({1, 2, 3})},
+                                {"c", nlohmann::json::object()}};
+    const auto cbor = nlohmann::json::to_cbor(doc);
+    EXPECT_EQ(cbor_problem(std::string(cbor.begin(), cbor.end()), 4), std::nullopt);
+    EXPECT_EQ(cbor_problem(std::string(cbor.begin(), cbor.end()), 1), "byte 3: nested deeper than 1 levels");
+    const auto problem = [](const std::string& bytes) { return cbor_problem(bytes, 32).value_or("none"); };
+    EXPECT_EQ(problem(std::string(200000, '\x81') + '\x00'), "byte 32: nested deeper than 32 levels");
+    EXPECT_EQ(problem(std::string(200000, '\xc6') + '\x00'), "byte 32: nested deeper than 32 levels");  // tags
+    EXPECT_EQ(problem(std::string("\x9b\x40\x00\x00\x00\x00\x00\x00\x00", 9)),
+              "byte 0: 4611686018427387904 items claimed, with 0 bytes left");
+    EXPECT_EQ(problem("\x5a\xff\xff\xff\xff"), "byte 0: a string longer than the data left");
+    EXPECT_EQ(problem("\x82\x01"), "byte 0: 2 items claimed, with 1 bytes left");
+    EXPECT_EQ(problem("\x9f\x01"), "byte 2: the data ends inside an item");
+    EXPECT_EQ(problem("\x01\x02"), "byte 1: 1 bytes after the data item");
+    EXPECT_EQ(problem("\xff"), "byte 0: a break outside an indefinite item");
+    EXPECT_EQ(problem("\x1c"), "byte 0: a reserved head");
+    EXPECT_EQ(problem("\x9f\x01\x82\x02\x03\xff"), "none");  // an indefinite array holding a definite one
+    EXPECT_EQ(problem("\x7f\x61\x61\x01\xff"), "byte 3: an indefinite string holds something other than its chunks");
+}
+
+// Shard files as an attacker or a failing disk leaves them (the hostile
+// audit's findings 1, 5 and 7): each refused with exit 2, naming the file,
+// in bounded time and memory; never a crash, a hang or a silent merge.
+TEST_F(Merge, RefusesHostileShardFiles) {
+    const std::string work = "stress --only dead-ball --monte-carlo 0 --engines reference,exact --jobs 1";
+    for (int k = 1; k <= 2; ++k)
+        ASSERT_LE(test::bouncecheck(fmt::format("{} --shard {}/2 --out {}", work, k, at(fmt::format("s{}", k)))).status, 1);
+    const auto refused = [&](const std::string& folder, const std::string& reason) {
+        const auto r = test::bouncecheck(fmt::format("merge --out {} {} {}", at("merged"), at("s1"), at(folder)));
+        EXPECT_EQ(r.status, 2) << folder << "\n" << r.output;
+        EXPECT_NE(r.output.find(at(folder)), std::string::npos) << "the file is named\n" << r.output;
+        EXPECT_NE(r.output.find(reason), std::string::npos) << folder << "\n" << r.output;
+        EXPECT_FALSE(fs::exists(dir_ / "merged" / "stress.json")) << folder;
+    };
+    const auto shard_file = [&](const std::string& folder) {
+        fs::create_directories(dir_ / folder);
+        return dir_ / folder / kShardFileName;
+    };
+    // 1: 200,000 nested arrays: a stack overflow in the decoder.
+    std::ofstream(shard_file("deep"), std::ios::binary) << std::string(200000, '\x81') << '\x00';
+    refused("deep", "unreadable: byte 32: nested deeper than 32 levels");
+    // 5: a FIFO in its place: refused at once.
+    ASSERT_EQ(::mkfifo(shard_file("fifo").c_str(), 0600), 0);
+    refused("fifo", "cannot read: not a regular file");
+    // 7: one byte flipped where the CBOR stays valid: the digest notices.
+    std::string bytes = slurp(dir_ / "s2" / kShardFileName);
+    const auto at_option = bytes.find("dead-ball");
+    ASSERT_NE(at_option, std::string::npos);
+    bytes[at_option] = 'D';
+    std::ofstream(shard_file("flipped"), std::ios::binary) << bytes;
+    refused("flipped", "its digest does not match its contents");
+    // 5: header counts no data backs, written with a right digest.
+    const nlohmann::json j = nlohmann::json::from_cbor(slurp(dir_ / "s2" / kShardFileName));
+    ShardFile forged;
+    forged.command = "stress";
+    forged.fingerprint = j.at("fingerprint").get<std::string>();
+    forged.options = j.at("options");
+    forged.shard = {2, 2147483647};
+    write_shard_file(shard_file("count").parent_path(), forged);
+    refused("count", "shard 2/2147483647 is not K/N with 1 <= K <= N <= 1000000");
+    // Against another shard's header the count differs; every header agreeing
+    // on a billion pairs that no shard holds would have sized the merge by it.
+    forged.pairs = 1'000'000'000;
+    forged.shard = {2, 2};
+    write_shard_file(shard_file("pairs").parent_path(), forged);
+    refused("pairs", "its pair count is 1000000000, not 2");
+    forged.shard = {1, 2};
+    write_shard_file(shard_file("pairs1").parent_path(), forged);
+    const auto r = test::bouncecheck(fmt::format("merge --out {} {} {}", at("merged"), at("pairs1"), at("pairs")));
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find("the shards hold 0 pairs, where their headers say the run has 1000000000"),
+              std::string::npos)
+        << r.output;
+    // The real pair still merges.
+    EXPECT_LE(test::bouncecheck(fmt::format("merge --out {} {} {}", at("merged"), at("s1"), at("s2"))).status, 1);
 }
 
 // Shards of inputs other than the merge sees are refused: here a bundled
