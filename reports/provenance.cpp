@@ -101,7 +101,9 @@ nlohmann::json to_json(const Provenance& p) {
 }
 
 std::string format_provenance(const nlohmann::json& j) {
-    if (!j.is_object() || !j.contains("build")) return "unknown (the report has no provenance)";
+    // Read from a report on disk: any field may be missing or of another type.
+    if (!j.is_object() || !j.contains("build") || !j["build"].is_object())
+        return "unknown (the report has no provenance)";
     const nlohmann::json& b = j["build"];
     const auto text = [](const nlohmann::json& o, const char* key) {
         return o.contains(key) && o[key].is_string() ? o[key].get<std::string>() : std::string("?");
@@ -109,12 +111,14 @@ std::string format_provenance(const nlohmann::json& j) {
     std::string commit = b.contains("git_commit") && b["git_commit"].is_string()
                              ? "git " + b["git_commit"].get<std::string>().substr(0, 12)
                              : std::string("no git commit");
-    if (b.value("git_dirty", false)) commit += "+dirty";
+    if (b.contains("git_dirty") && b["git_dirty"].is_boolean() && b["git_dirty"].get<bool>()) commit += "+dirty";
     std::string line = fmt::format("bouncecheck {} ({}, {}, {})", text(b, "bouncecheck_version"), commit,
                                    text(b, "compiler"), text(b, "build_type"));
     if (j.contains("machine") && j["machine"].is_object()) {
         const nlohmann::json& m = j["machine"];
-        line += fmt::format(" on {} ({} cores), {}", text(m, "cpu"), m.value("cores", 0u), text(m, "date"));
+        const std::string cores =
+            m.contains("cores") && m["cores"].is_number_unsigned() ? std::to_string(m["cores"].get<unsigned>()) : "?";
+        line += fmt::format(" on {} ({} cores), {}", text(m, "cpu"), cores, text(m, "date"));
     }
     return line;
 }

@@ -204,6 +204,16 @@ TEST_F(DiffInput, BadInputIsRefusedWithTheReason) {
         {write_file("noschema.json", "{\"scenarios\": []}"), "no \"schema\" field"},
         {write_file("noname.json", R"({"schema": "bouncecheck-report/1", "scenarios": [{"simulators": []}]})"),
          "scenarios[0]: no scenario.name"},
+        // The hostile audit's findings 9, 10 and 21.
+        {write_file("huge-number.json", R"({"schema": "bouncecheck-report/1", "scenarios": [], "x": 1e400})"),
+         "not JSON this bouncecheck can read"},
+        {write_file("deep.json", std::string(100000, '[') + std::string(100000, ']')), "nested deeper than 64 levels"},
+        {write_file("twice.json", R"({"schema": "bouncecheck-report/1", "scenarios": [
+             {"scenario": {"name": "s"}, "simulators": []}, {"scenario": {"name": "s"}, "simulators": []}]})"),
+         "scenarios[1]: scenario 's' listed twice"},
+        {write_file("sim-twice.json", R"({"schema": "bouncecheck-report/1", "scenarios": [
+             {"scenario": {"name": "s"}, "simulators": [{"simulator": "a"}, {"simulator": "a"}]}]})"),
+         "scenarios[0].simulators[1]: simulator 'a' listed twice"},
     };
     for (const auto& c : cases) {
         const auto loaded = load_run_report(c.path);
@@ -212,6 +222,23 @@ TEST_F(DiffInput, BadInputIsRefusedWithTheReason) {
         const CliResult r = bouncecheck("diff " + c.path.string() + " " + good.string() + " --out " + (dir_ / "o").string());
         EXPECT_EQ(r.status, 2) << r.output;
         EXPECT_NE(r.output.find(c.message), std::string::npos) << r.output;
+    }
+    // Over the size limit (sparse: costs no disk): refused from its size, not read.
+    const fs::path huge = write_file("huge.json", "");
+    fs::resize_file(huge, kMaxRunReportBytes + 1);
+    CliResult big = bouncecheck("diff " + huge.string() + " " + good.string() + " --out " + (dir_ / "o").string());
+    EXPECT_EQ(big.status, 2) << big.output;
+    EXPECT_NE(big.output.find("over the limit of 1073741824 for a report"), std::string::npos) << big.output;
+    // Provenance of the wrong shape reads as unknown; it never throws a library's message.
+    json odd = report();
+    odd["provenance"] = {{"build", 3}};
+    json odder = report();
+    odder["provenance"] = {{"build", {{"git_dirty", "yes"}}}, {"machine", {{"cores", "two"}}}};
+    for (const json& j : {odd, odder}) {
+        const fs::path file = write_file("odd.json", j.dump());
+        const CliResult r = bouncecheck("diff " + file.string() + " " + good.string() + " --out " + (dir_ / "o").string());
+        EXPECT_EQ(r.status, 0) << r.output;
+        EXPECT_EQ(r.output.find("type_error"), std::string::npos) << r.output;
     }
     for (const char* arg : {"--tolerance height", "--tolerance speed=1", "--tolerance height=-1"}) {
         const CliResult r = bouncecheck("diff " + good.string() + " " + good.string() + " " + arg);

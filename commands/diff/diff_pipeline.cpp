@@ -1,11 +1,12 @@
 #include "commands/diff/diff_pipeline.h"
 
 #include "platform/did_you_mean.h"
+#include "platform/printable_text.h"
 #include "reports/provenance.h"
 #include "reports/run_report.h"
 #include "reports/stress_report.h"
-#include "reports/sweep_report.h"
 #include "reports/json_number.h"
+#include "reports/sweep_report.h"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -15,6 +16,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 namespace fs = std::filesystem;
 
@@ -241,14 +243,24 @@ std::optional<std::string> not_a_run_report(const json& j) {
                            "written by one bouncecheck version, or rerun the old one)",
                            schema, kReportSchema);
     if (!j.contains("scenarios") || !j["scenarios"].is_array()) return "no \"scenarios\" array";
+    // Each name once: a scenario or simulator listed twice would diff as whichever came last.
+    std::set<std::string> scenarios;
     for (std::size_t i = 0; i < j["scenarios"].size(); ++i) {
         const json& sc = j["scenarios"][i];
         if (!field(field(sc, "scenario"), "name").is_string())
             return fmt::format("scenarios[{}]: no scenario.name", i);
+        const std::string name = sc["scenario"]["name"].get<std::string>();
+        if (!scenarios.insert(name).second)
+            return fmt::format("scenarios[{}]: scenario '{}' listed twice", i, printable_text(name));
         if (!field(sc, "simulators").is_array()) return fmt::format("scenarios[{}]: no \"simulators\" array", i);
-        for (std::size_t k = 0; k < sc["simulators"].size(); ++k)
-            if (!field(sc["simulators"][k], "simulator").is_string())
-                return fmt::format("scenarios[{}].simulators[{}]: no \"simulator\" name", i, k);
+        std::set<std::string> simulators;
+        for (std::size_t k = 0; k < sc["simulators"].size(); ++k) {
+            const json& sim = field(sc["simulators"][k], "simulator");
+            if (!sim.is_string()) return fmt::format("scenarios[{}].simulators[{}]: no \"simulator\" name", i, k);
+            if (!simulators.insert(sim.get<std::string>()).second)
+                return fmt::format("scenarios[{}].simulators[{}]: simulator '{}' listed twice", i, k,
+                                   printable_text(sim.get<std::string>()));
+        }
     }
     return std::nullopt;
 }
@@ -296,15 +308,27 @@ std::variant<LoadedReport, std::string> load_run_report(const fs::path& path) {
     }
     if (!fs::exists(file, ec)) return fmt::format("{}: no such file", file.string());
     if (!fs::is_regular_file(file, ec)) return fmt::format("{}: not a regular file", file.string());
+    // Refused from its size, before it is read: a 2 GB file cost 4 GB and 11 s to be called "not JSON".
+    const std::uintmax_t size = fs::file_size(file, ec);
+    if (ec) return fmt::format("{}: cannot read: {}", file.string(), ec.message());
+    if (size > kMaxRunReportBytes)
+        return fmt::format("{}: {} bytes, over the limit of {} for a report", file.string(), size, kMaxRunReportBytes);
     std::ifstream in(file, std::ios::binary);
     if (!in) return fmt::format("{}: cannot open", file.string());
     std::stringstream text;
     text << in.rdbuf();
     LoadedReport report{json(), file.string()};
+    // Nesting past any report's is refused as it is read.
+    const json::parser_callback_t depth_limit = [](int depth, json::parse_event_t, json&) {
+        if (depth > kMaxRunReportDepth) throw std::runtime_error(fmt::format("nested deeper than {} levels", kMaxRunReportDepth));
+        return true;
+    };
     try {
-        report.json = json::parse(text.str());
-    } catch (const json::parse_error& e) {
-        return fmt::format("{}: not JSON: {}", file.string(), e.what());
+        report.json = json::parse(text.str(), depth_limit);
+    } catch (const json::exception& e) {  // parse_error, and out_of_range for a number like 1e400
+        return fmt::format("{}: not JSON this bouncecheck can read: {}", file.string(), e.what());
+    } catch (const std::runtime_error& e) {
+        return fmt::format("{}: {}", file.string(), e.what());
     }
     if (auto why = not_a_run_report(report.json)) return fmt::format("{}: {}", file.string(), *why);
     return report;

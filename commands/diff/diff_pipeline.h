@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -43,6 +44,11 @@ struct DiffJudging {
     std::optional<DiffTolerances> tolerances() const;
     std::optional<double> ratio() const { return timing_ratio > 0 ? std::optional<double>(timing_ratio) : std::nullopt; }
 };
+
+// What diff reads of a report.json: at most 1 GiB (checked before reading)
+// and 64 levels of nesting (a report nests 8).
+inline constexpr std::uintmax_t kMaxRunReportBytes = std::uintmax_t{1} << 30;
+inline constexpr int kMaxRunReportDepth = 64;
 
 // A run report read from `path`: a report.json, or an output folder holding
 // one. Refused with the reason: missing, not JSON, not a run report, or a
