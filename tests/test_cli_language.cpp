@@ -246,6 +246,10 @@ TEST(CliLanguage, NumberOptionsRefuseNanInfinityAndTheOutOfRange) {
         {"sweep " + seed + " --budget -nan", "--budget: '-nan' is not a finite number"},
         {"calibrate " + seed + " --engines ode --max-mu nan", "--max-mu: 'nan' is not a finite number"},
         {"diff a b --timing-ratio nan", "--timing-ratio: 'nan' is not a finite number"},
+        // Finding 20: a seed out of range was clamped to 2^64 - 1 without a word.
+        {"stress --only dead-ball --seed -1", "--seed: '-1' is not a whole number from 0 to 18446744073709551615"},
+        {"stress --only dead-ball --seed 18446744073709551616", "--seed: '18446744073709551616' is not a whole number"},
+        {"stress --only dead-ball --seed 1e23", "--seed: '1e23' is not a whole number"},
     };
     for (const auto& c : cases) {
         const test::CliResult r = test::bouncecheck(c.args);

@@ -17,8 +17,10 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <charconv>
 #include <cstdint>
 #include <exception>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <set>
@@ -249,7 +251,19 @@ Command add_stress_command(CLI::App& app) {
                         "Size of the generated Monte-Carlo set; scenario n depends only on the seed and n")
         ->capture_default_str()
         ->check(CLI::Range(0, 10'000'000));
-    command->add_option("--seed", opt->monte_carlo.seed, "Seed of the Monte-Carlo set")->capture_default_str();
+    command->add_option("--seed", opt->monte_carlo.seed, "Seed of the Monte-Carlo set")
+        ->capture_default_str()
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                // CLI11 clamps -1, 2^64 and 1e23 to 2^64 - 1 without a word: digits only, within 64 bits.
+                std::uint64_t seed = 0;
+                const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), seed);
+                if (text.empty() || ec != std::errc() || end != text.data() + text.size())
+                    return fmt::format("'{}' is not a whole number from 0 to {}", text.substr(0, 40),
+                                       std::numeric_limits<std::uint64_t>::max());
+                return {};
+            },
+            "UINT64"));
     add_shard_option(*command, opt->shard);
     add_external_options(*command, opt->external);
     set_exit_status_help(*command, {{kOk, "every invariant held"},
