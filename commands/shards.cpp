@@ -1,6 +1,7 @@
 #include "commands/shards.h"
 
 #include "platform/atomic_file.h"
+#include "platform/bounded_read.h"
 #include "platform/cbor_check.h"
 #include "platform/digest.h"
 #include "reports/provenance.h"
@@ -11,18 +12,12 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
 #include <cstdint>
 #include <fstream>
 #include <iterator>
 #include <map>
 #include <utility>
 #include <variant>
-
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -92,35 +87,6 @@ std::string run_fingerprint(std::string_view command, std::string_view inputs) {
 
 namespace {
 
-// The shard file's bytes, opened without waiting (a FIFO in its place is
-// refused, not waited on) and refused past kMaxShardFileBytes from its size.
-std::variant<std::string, std::string> read_shard_bytes(const fs::path& path) {
-    using Result = std::variant<std::string, std::string>;
-    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) return Result(std::in_place_index<1>, std::strerror(errno));
-    struct stat info {};
-    if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode)) {
-        ::close(fd);
-        return Result(std::in_place_index<1>, "not a regular file");
-    }
-    if (static_cast<std::uintmax_t>(info.st_size) > kMaxShardFileBytes) {
-        ::close(fd);
-        return Result(std::in_place_index<1>,
-                      fmt::format("{} bytes, over the limit of {}", info.st_size, kMaxShardFileBytes));
-    }
-    std::string bytes(static_cast<std::size_t>(info.st_size), '\0');
-    std::size_t got = 0;
-    while (got < bytes.size()) {
-        const ssize_t n = ::read(fd, bytes.data() + got, bytes.size() - got);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) break;
-        got += static_cast<std::size_t>(n);
-    }
-    ::close(fd);
-    bytes.resize(got);
-    return Result(std::in_place_index<0>, std::move(bytes));
-}
-
 std::optional<ShardFile> read_shard_file(const fs::path& dir) {
     const fs::path path = dir / kShardFileName;
     if (!fs::exists(fs::symlink_status(path))) {
@@ -128,12 +94,13 @@ std::optional<ShardFile> read_shard_file(const fs::path& dir) {
                    dir.string(), kShardFileName);
         return std::nullopt;
     }
-    auto read = read_shard_bytes(path);
-    if (read.index() == 1) {
-        fmt::print(stderr, "error: {}: cannot read: {}\n", path.string(), std::get<1>(read));
+    // Without waiting (a FIFO in its place is refused), and refused from its size.
+    auto read = read_bounded(path, kMaxShardFileBytes);
+    if (auto* refused = std::get_if<ReadRefusal>(&read)) {
+        fmt::print(stderr, "error: {}: cannot read: {}\n", path.string(), refused->reason);
         return std::nullopt;
     }
-    const std::string& bytes = std::get<0>(read);
+    const std::string& bytes = std::get<std::string>(read);
     try {
         // Checked before decoding: nlohmann's decoder recurses once per level.
         if (auto problem = cbor_problem(bytes, kMaxShardFileDepth)) throw std::runtime_error(*problem);

@@ -1,6 +1,7 @@
 #include "external/external_simulator.h"
 
 #include "external/trajectory_reader.h"
+#include "platform/bounded_read.h"
 #include "platform/printable_text.h"
 #include "platform/program.h"
 #include "simulators/stream_contacts.h"
@@ -9,16 +10,12 @@
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
-#include <cerrno>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
-#include <fcntl.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -54,30 +51,12 @@ public:
     // its place: a FIFO (opened without waiting, then refused), a link to
     // /dev/zero or a huge file (refused from its size, before reading).
     std::string read() const {
-        const int fd = ::open(path_.c_str(), O_RDONLY | O_NONBLOCK | O_NOFOLLOW | O_CLOEXEC);
-        if (fd < 0) {
-            if (errno == ENOENT) return {};  // removed: no settings
-            throw std::runtime_error(fmt::format("cannot open it: {}", std::strerror(errno)));
+        auto read = read_bounded(path_, kMaxExternalSettingsBytes, Links::refuse);
+        if (auto* refused = std::get_if<ReadRefusal>(&read)) {
+            if (refused->missing) return {};  // removed: no settings
+            throw std::runtime_error(refused->reason);
         }
-        struct stat info {};
-        const bool regular = ::fstat(fd, &info) == 0 && S_ISREG(info.st_mode);
-        if (!regular || info.st_size > static_cast<off_t>(kMaxExternalSettingsBytes)) {
-            ::close(fd);
-            throw std::runtime_error(regular ? fmt::format("{} bytes, over the limit of {}", info.st_size,
-                                                           kMaxExternalSettingsBytes)
-                                             : std::string("not a regular file"));
-        }
-        std::string text(static_cast<std::size_t>(info.st_size), '\0');
-        std::size_t got = 0;
-        while (got < text.size()) {
-            const ssize_t n = ::read(fd, text.data() + got, text.size() - got);
-            if (n < 0 && errno == EINTR) continue;
-            if (n <= 0) break;
-            got += static_cast<std::size_t>(n);
-        }
-        ::close(fd);
-        text.resize(got);
-        return text;
+        return std::get<std::string>(std::move(read));
     }
 
 private:

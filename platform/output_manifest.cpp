@@ -1,6 +1,7 @@
 #include "platform/output_manifest.h"
 
 #include "platform/atomic_file.h"
+#include "platform/bounded_read.h"
 #include "platform/digest.h"
 
 #include <fmt/format.h>
@@ -104,29 +105,11 @@ std::variant<Manifest, std::string> read_manifest(const fs::path& dir) {
     if (st.type() == fs::file_type::not_found) return Manifest{};
     if (ec) return fmt::format("{}: cannot read: {}", path.string(), ec.message());
     if (st.type() != fs::file_type::regular) return fmt::format("{}: not a regular file", path.string());
-    // O_NONBLOCK: a FIFO put there in the meantime must not hang the run.
-    const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) return fmt::format("{}: cannot read: {}", path.string(), std::strerror(errno));
-    struct stat info {};
-    if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode)) {
-        ::close(fd);
-        return fmt::format("{}: not a regular file", path.string());
-    }
-    if (static_cast<std::uintmax_t>(info.st_size) > kManifestMaxBytes) {
-        ::close(fd);
-        return fmt::format("{}: {} bytes, over the limit of {} for a manifest", path.string(), info.st_size,
-                           kManifestMaxBytes);
-    }
-    std::string text(static_cast<std::size_t>(info.st_size), '\0');
-    std::size_t got = 0;
-    while (got < text.size()) {
-        const ssize_t n = ::read(fd, text.data() + got, text.size() - got);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) break;
-        got += static_cast<std::size_t>(n);
-    }
-    ::close(fd);
-    text.resize(got);
+    // Without waiting: a FIFO put there in the meantime must not hang the run.
+    auto read = read_bounded(path, kManifestMaxBytes, Links::refuse);
+    if (auto* refused = std::get_if<ReadRefusal>(&read))
+        return fmt::format("{}: {}", path.string(), refused->reason);
+    const std::string& text = std::get<std::string>(read);
     auto parsed = parse_manifest(text);
     if (auto* error = std::get_if<std::string>(&parsed))
         return fmt::format("{}:{} (delete the file to start the folder's list afresh)", path.string(), *error);
