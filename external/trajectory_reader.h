@@ -45,6 +45,8 @@ public:
             }
             std::string_view text = bytes.substr(0, end);
             bytes.remove_prefix(end + 1);
+            // The limit holds however the line arrived: whole in one piece, or in several.
+            if (partial_.empty() && text.size() > kMaxLineBytes) return fail_long_line();
             if (!partial_.empty()) {
                 if (partial_.size() + text.size() > kMaxLineBytes) return fail_long_line();
                 partial_.append(text);
@@ -57,14 +59,16 @@ public:
         }
         return true;
     }
-    // The end of the stream: a last line without its newline, or too few rows.
+    // The end of the stream: too few rows, or a last line without its
+    // newline. That one is refused, not parsed: a stream cut mid-row can
+    // still leave a number ("0.123" of "0.12345678"), which would pass.
     template <class OnState>
     bool finish(OnState&& on_state) {
+        (void)on_state;
         if (!partial_.empty()) {
-            const bool state = take_line(partial_);
+            problem_ = RowProblem{line_ + 1, "", "the last line has no newline at its end: cut off?"};
             partial_.clear();
-            if (problem_) return false;
-            if (state && !on_state(state_)) return false;
+            return false;
         }
         if (rows_ < expected_rows_) {
             problem_ = RowProblem{line_ + 1, "",

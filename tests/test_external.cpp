@@ -101,12 +101,27 @@ TEST(TrajectoryReader, AcceptsCrlfAndPlusSignsAnd2d) {
     s.duration = 2 * s.dt;  // three rows
     std::optional<RowProblem> problem;
     const auto states =
-        read_all(s, "t,x,y,vx,vy\r\n0,+0.5,1e-1,0,0\r\n0.03,0.5,0.1,0,-1E-3\r\n0.06,0.5,0.1,0,0", 1000, &problem);
+        read_all(s, "t,x,y,vx,vy\r\n0,+0.5,1e-1,0,0\r\n0.03,0.5,0.1,0,-1E-3\r\n0.06,0.5,0.1,0,0\r\n", 1000, &problem);
     ASSERT_FALSE(problem) << problem->format();
     ASSERT_EQ(states.size(), 3u);
     EXPECT_EQ(states[0].p.x(), 0.5);
     EXPECT_EQ(states[1].v.y(), -1e-3);
     EXPECT_EQ(states[2].t, 0.06);
+}
+
+// The hostile audit's finding 13: the line limit held only for a line that
+// spanned two reads; a long line whole in the first piece passed.
+TEST(TrajectoryReader, TheLineLimitHoldsHoweverTheLineArrives) {
+    Scenario s = seed("seed-3d");
+    s.duration = 2 * s.dt;
+    const std::string text = "t,x,y,z,vx,vy,vz\n" + std::string(60000, '1') + "\n";
+    for (std::size_t piece : {std::size_t{3}, std::size_t{65536}, std::size_t{1} << 20}) {
+        std::optional<RowProblem> problem;
+        read_all(s, text, piece, &problem);
+        ASSERT_TRUE(problem) << piece;
+        EXPECT_EQ(problem->line, 2) << piece;
+        EXPECT_NE(problem->reason.find("a line longer than 4096 bytes"), std::string::npos) << problem->reason;
+    }
 }
 
 TEST(TrajectoryReader, NamesTheLineFieldAndReason) {
@@ -131,6 +146,9 @@ TEST(TrajectoryReader, NamesTheLineFieldAndReason) {
         {h + row0 + "0.03,0.5,0.9,0.5,0,0,0\n0.06,0.5,0.9,0.5,0,0,0\n0.09,0.5,0.9,0.5,0,0,0\n", 5, "",
          "more rows than the 3"},
         {h + std::string(5000, '1') + "\n", 2, "", "a line longer than 4096 bytes"},
+        // The hostile audit's finding 19: a stream cut mid-row still leaves a number.
+        {h + row0 + "0.03,0.5,0.9,0.5,0,0,0\n0.06,0.5,0.9,0.5,0,0,0.12", 4, "",
+         "the last line has no newline at its end: cut off?"},
     };
     for (const auto& c : cases) {
         std::optional<RowProblem> problem;
