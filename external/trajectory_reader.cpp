@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 
 namespace bouncecheck {
@@ -116,6 +117,15 @@ bool TrajectoryReader::take_line(std::string_view text) {
 
 std::optional<std::string> read_trajectory_file(const std::string& file, const Scenario& s,
                                                 const std::function<bool(const State&)>& on_state) {
+    // A recorded trajectory is read twice, checked before anything runs and
+    // replayed in the run: a pipe (a process substitution) would pass the
+    // check and then be empty, so only a regular file is taken.
+    std::error_code ec;
+    const auto status = std::filesystem::status(file, ec);
+    if (!ec && status.type() != std::filesystem::file_type::regular)
+        return fmt::format("{}: not a regular file: a recorded trajectory is read twice (checked, then compared), so "
+                           "give a file, not a pipe",
+                           file);
     const std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(std::fopen(file.c_str(), "rb"), &std::fclose);
     if (!in) return fmt::format("{}: cannot open: {}", file, std::strerror(errno));
     TrajectoryReader reader(s);

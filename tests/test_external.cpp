@@ -24,6 +24,7 @@
 #include <vector>
 
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 namespace fs = std::filesystem;
@@ -523,6 +524,23 @@ TEST(ExternalCli, BadDeclarationsAreBadInput) {
         EXPECT_EQ(r.status, 2) << c.args << "\n" << r.output;
         EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
     }
+}
+
+// The hostile audit's finding 12: a pipe given as a recorded trajectory passed
+// the check (the first read) and was then empty in the run (exit 3).
+TEST(ExternalCli, ARecordedTrajectoryMustBeAFileNotAPipe) {
+    const fs::path fifo = fs::temp_directory_path() / ("bouncecheck-trajectory-fifo-" + std::to_string(::getpid()));
+    fs::remove(fifo);
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    const CliResult r = bouncecheck("run " + kScenarios + "/seed-3d.toml --engines reference --trajectory copy=" +
+                                    fifo.string() + " --out " + (fifo.string() + "-out"));
+    fs::remove(fifo);
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find(fifo.string() + ": not a regular file: a recorded trajectory is read twice"),
+              std::string::npos)
+        << r.output;
+    EXPECT_FALSE(fs::exists(fifo.string() + "-out/report.json"));
+    fs::remove_all(fifo.string() + "-out");
 }
 
 TEST(ExternalCli, AFailedExternalExitsThreeWithEveryOtherResultWritten) {
