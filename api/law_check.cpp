@@ -42,12 +42,10 @@ std::optional<std::string> simulator_name_problem(const Simulator& sim) {
     return std::nullopt;
 }
 
-// The first contact with the floor (the lower wall of the vertical axis, the
-// last), as report.json's first_floor_contacts counts it.
-std::optional<double> first_floor_contact(const SimulatorSummary& r, int dim) {
-    for (const ContactEvent& e : r.contact_events)
-        if (e.axis == dim - 1 && e.side < 0) return e.t;
-    return std::nullopt;
+// The first contact with the floor, as the comparison counts floor contacts.
+std::optional<double> first_floor_contact(const SimulatorSummary& r, const Scenario& s) {
+    const std::vector<ContactEvent> floor = floor_contacts(r, s.vertical_axis());
+    return floor.empty() ? std::nullopt : std::optional<double>(floor.front().t);
 }
 
 // `apexes`: at least this many bounces compared (the scenario's
@@ -85,8 +83,8 @@ LawCheck check_law(const Scenario& s, const Simulator& sim, const LawTolerances&
     }
     const Comparison& compared = *run.comparisons[2];
 
-    c.exact_first_contact_t = first_floor_contact(exact, s.dim);
-    c.first_contact_t = first_floor_contact(self, s.dim);
+    c.exact_first_contact_t = first_floor_contact(exact, s);
+    c.first_contact_t = first_floor_contact(self, s);
     if (c.exact_first_contact_t && !c.first_contact_t) {
         fail(fmt::format("first floor contact: none, where exact's is at {:.6g} s", *c.exact_first_contact_t));
     } else if (c.exact_first_contact_t) {

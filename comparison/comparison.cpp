@@ -357,15 +357,14 @@ std::optional<DistanceSeries> TrajectoryComparer::exact_series() const { return 
 TrajectoryDivergence TrajectoryComparer::vs_reference() const { return vs_reference_->finished(); }
 TrajectoryDivergence TrajectoryComparer::vs_exact() const { return vs_exact_->finished(); }
 
-namespace {
-
-// Floor contacts in time order.
 std::vector<ContactEvent> floor_contacts(const SimulatorSummary& r, int vertical) {
     std::vector<ContactEvent> out;
     for (const ContactEvent& c : r.contact_events)
         if (c.axis == vertical && c.side < 0) out.push_back(c);
     return out;
 }
+
+namespace {
 
 // The first floor contact after time t.
 std::optional<double> contact_after(const std::vector<ContactEvent>& floor, double t) {

@@ -54,6 +54,9 @@ struct Divergence {
     TrajectoryDivergence trajectory;
 };
 
+// A run's floor contacts (the lower wall of `vertical`), in time order.
+std::vector<ContactEvent> floor_contacts(const SimulatorSummary& r, int vertical);
+
 // A distance over time as report.html plots it: the largest of each window
 // of samples, with its time (WindowMaxSeries).
 struct DistanceSeries {

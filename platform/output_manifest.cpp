@@ -80,35 +80,43 @@ std::optional<fs::path> regular_file_inside(const fs::path& dir, const std::stri
     return p;
 }
 
-// The entry `relative` would have now, or nothing when it is not a regular
-// file in the folder. Its contents are read only when `compare_with` is not
-// given or has the same size: a file of another size has changed.
-std::optional<ManifestEntry> entry_now(const fs::path& dir, const std::string& kind, const std::string& relative,
-                                       const ManifestEntry* compare_with = nullptr) {
+// The entry `relative` has now, or nothing when it is not a regular file in the folder.
+std::optional<ManifestEntry> entry_now(const fs::path& dir, const std::string& kind, const std::string& relative) {
     const auto p = regular_file_inside(dir, relative);
     if (!p) return std::nullopt;
     std::error_code ec;
     const std::uintmax_t size = fs::file_size(*p, ec);
     if (ec) return std::nullopt;
-    if (compare_with && compare_with->size != size) return ManifestEntry{kind, size, ~compare_with->digest, relative};
     const auto digest = file_digest(*p);
     if (!digest) return std::nullopt;
     return ManifestEntry{kind, size, *digest, relative};
+}
+
+// Whether a listed file is still as it was written; its contents are read
+// only when its size still matches.
+enum class Listed { gone, changed, unchanged };
+Listed listed_now(const fs::path& dir, const ManifestEntry& before) {
+    const auto p = regular_file_inside(dir, before.path);
+    if (!p) return Listed::gone;
+    std::error_code ec;
+    const std::uintmax_t size = fs::file_size(*p, ec);
+    if (ec) return Listed::gone;
+    if (size != before.size) return Listed::changed;
+    const auto digest = file_digest(*p);
+    if (!digest) return Listed::gone;
+    return *digest == before.digest ? Listed::unchanged : Listed::changed;
 }
 
 // Reads the manifest of `dir`: nothing when there is none; an error text
 // (naming the file and line) when it cannot be read or parsed.
 std::variant<Manifest, std::string> read_manifest(const fs::path& dir) {
     const fs::path path = dir / kManifestFileName;
-    std::error_code ec;
-    const fs::file_status st = fs::symlink_status(path, ec);
-    if (st.type() == fs::file_type::not_found) return Manifest{};
-    if (ec) return fmt::format("{}: cannot read: {}", path.string(), ec.message());
-    if (st.type() != fs::file_type::regular) return fmt::format("{}: not a regular file", path.string());
-    // Without waiting: a FIFO put there in the meantime must not hang the run.
+    // Without waiting: a FIFO in its place must not hang the run.
     auto read = read_bounded(path, kManifestMaxBytes, Links::refuse);
-    if (auto* refused = std::get_if<ReadRefusal>(&read))
+    if (auto* refused = std::get_if<ReadRefusal>(&read)) {
+        if (refused->missing) return Manifest{};  // a folder no command wrote into yet
         return fmt::format("{}: {}", path.string(), refused->reason);
+    }
     const std::string& text = std::get<std::string>(read);
     auto parsed = parse_manifest(text);
     if (auto* error = std::get_if<std::string>(&parsed))
@@ -250,10 +258,9 @@ ManifestUpdate OutputFolder::record(std::string_view kind_view, const WrittenFil
             if (regular_file_inside(dir_, before.path)) now[before.path] = before;
             continue;
         }
-        const auto current = entry_now(dir_, before.kind, before.path, &before);
-        if (!current) continue;  // gone (or no longer a plain file in the folder): nothing to list
-        const bool unchanged = current->size == before.size && current->digest == before.digest;
-        if (!unchanged) {
+        const Listed state = listed_now(dir_, before);
+        if (state == Listed::gone) continue;  // (or no longer a plain file in the folder): nothing to list
+        if (state == Listed::changed) {
             update.changed.push_back(before.path);
             continue;
         }
