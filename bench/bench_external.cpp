@@ -75,7 +75,7 @@ void OverProtocol(benchmark::State& state, const std::string& engine, double dur
     else table["tangential_model"] = "per-contact";
     s.passthrough_tables[engine + "-ext"] = table.dump();
     const auto sim = make_external_simulator(
-        ExternalDeclaration{engine + "-ext", {BOUNCECHECK_ENGINE_EXAMPLE, engine}}, 600);
+        ExternalDeclaration{engine + "-ext", {BOUNCECHECK_ENGINE_EXAMPLE, engine}}, ExternalLimits{});
     measure(state, *sim, s);
 }
 

@@ -3,6 +3,7 @@
 #include "external/external_simulator.h"
 #include "external/trajectory_reader.h"
 #include "platform/did_you_mean.h"
+#include "platform/printable_text.h"
 #include "platform/program.h"
 #include "scenarios/loader.h"
 
@@ -142,9 +143,16 @@ void add_external_options(CLI::App& command, ExternalOptions& options) {
                        "NAME=COMMAND: run COMMAND (split on whitespace, no shell) as simulator NAME through the "
                        "external protocol, docs/external.md (repeatable)");
     command.add_option("--external-timeout", options.timeout_seconds,
-                       "Seconds an external simulator may go without output before it is killed")
+                       "Seconds an external simulator may go without output before it is killed (it is also "
+                       "killed after the command's --budget, or an hour, in all)")
         ->capture_default_str()
         ->check(finite_between(0.001, 1e6));
+}
+
+void add_scenario_programs_flag(CLI::App& command, ExternalOptions& options) {
+    command.add_flag("--no-scenario-programs", options.refuse_scenario_programs,
+                     "Refuse (exit 2, nothing run) a scenario file that declares a program to run ([external.NAME]): "
+                     "for scenario files nobody reviewed, as a pull request's");
 }
 
 namespace {
@@ -161,7 +169,8 @@ std::optional<std::string> extra_name_problem(const std::string& name) {
 
 std::optional<ExtraSimulators> ExtraSimulators::from_options(const ExternalOptions& options) {
     ExtraSimulators extra;
-    extra.timeout_ = options.timeout_seconds;
+    extra.limits_ = options.limits();
+    extra.refuse_scenario_programs_ = options.refuse_scenario_programs;
     bool ok = true;
     for (const std::string& arg : options.declarations) {
         const auto error = [&](const std::string& why) {
@@ -197,7 +206,7 @@ std::optional<ExtraSimulators> ExtraSimulators::from_options(const ExternalOptio
         }
         d.command[0] = std::move(*program);
         extra.names_.push_back(d.name);
-        extra.command_line_.push_back(make_external_simulator(std::move(d), options.timeout_seconds));
+        extra.command_line_.push_back(make_external_simulator(std::move(d), options.limits()));
     }
     if (!ok) return std::nullopt;
     return extra;
@@ -260,6 +269,19 @@ bool ExtraSimulators::add_trajectories(const std::vector<std::string>& arguments
     return ok;
 }
 
+bool ExtraSimulators::admit_scenario_programs(const std::vector<Scenario>& scenarios) const {
+    if (!refuse_scenario_programs_) return true;
+    bool admitted = true;
+    for (const Scenario& s : scenarios) {
+        for (const auto& [name, command] : s.externals) {
+            fmt::print(stderr, "error: {}: [external.{}] command: would run '{}': refused (--no-scenario-programs)\n",
+                       printable_text(s.source.string()), name, printable_text(fmt::format("{}", fmt::join(command, " "))));
+            admitted = false;
+        }
+    }
+    return admitted;
+}
+
 std::vector<const Simulator*> ExtraSimulators::with_command_line(const std::vector<const Simulator*>& built) const {
     std::vector<const Simulator*> out = built;
     for (const auto& sim : command_line_) out.push_back(sim.get());
@@ -270,7 +292,7 @@ std::vector<const Simulator*> ExtraSimulators::for_scenario(const Scenario& s,
                                                             const std::vector<const Simulator*>& built) {
     std::vector<const Simulator*> out = with_command_line(built);
     for (const auto& [name, command] : s.externals) {
-        from_files_.push_back(make_external_simulator(ExternalDeclaration{name, command}, timeout_));
+        from_files_.push_back(make_external_simulator(ExternalDeclaration{name, command}, limits_));
         out.push_back(from_files_.back().get());
     }
     for (const auto& [scenario, sim] : imported_)
@@ -279,11 +301,12 @@ std::vector<const Simulator*> ExtraSimulators::for_scenario(const Scenario& s,
 }
 
 nlohmann::json to_json(const ExternalOptions& options) {
-    return {{"declarations", options.declarations}, {"timeout", options.timeout_seconds}};
+    return {{"declarations", options.declarations}, {"timeout", options.timeout_seconds}, {"total", options.total_seconds}};
 }
 
 ExternalOptions external_options_from(const nlohmann::json& j) {
-    return {j.at("declarations").get<std::vector<std::string>>(), j.at("timeout").get<double>()};
+    return {j.at("declarations").get<std::vector<std::string>>(), j.at("timeout").get<double>(),
+            j.at("total").get<double>()};
 }
 
 std::vector<std::string> simulator_names(const std::vector<const Simulator*>& simulators) {

@@ -98,8 +98,19 @@ void record_outputs(OutputFolder& out, std::string_view kind, const WrittenFiles
 struct ExternalOptions {
     std::vector<std::string> declarations;  // NAME=COMMAND
     double timeout_seconds = kDefaultExternalTimeoutSeconds;
+    // Not an option of its own: the command's --budget, where it has one
+    // (external_simulator.h).
+    double total_seconds = kDefaultExternalTotalSeconds;
+    ExternalLimits limits() const { return {timeout_seconds, total_seconds}; }
+    // --no-scenario-programs (run, sweep): a scenario file that declares a
+    // program to run ([external.NAME]) is refused, not run.
+    bool refuse_scenario_programs = false;
 };
 void add_external_options(CLI::App& command, ExternalOptions& options);
+// --no-scenario-programs, for the commands that run a scenario file's own
+// [external.NAME] programs (run, sweep): what a CI job given scenario files
+// it has not reviewed (a pull request's) sets, so that they cannot run code.
+void add_scenario_programs_flag(CLI::App& command, ExternalOptions& options);
 // The options as a shard hands them to merge (commands/shards.h), and back.
 nlohmann::json to_json(const ExternalOptions& options);
 ExternalOptions external_options_from(const nlohmann::json& j);
@@ -125,11 +136,15 @@ public:
     // The simulators `s` runs: `built`, then --external's, then its file's
     // own, then the trajectories imported for it.
     std::vector<const Simulator*> for_scenario(const Scenario& s, const std::vector<const Simulator*>& built);
+    // With --no-scenario-programs: false, having named each file's
+    // [external.NAME] programs on stderr, when any declares one.
+    bool admit_scenario_programs(const std::vector<Scenario>& scenarios) const;
     // `built`, then --external's (the stress suite's scenarios declare none of their own).
     std::vector<const Simulator*> with_command_line(const std::vector<const Simulator*>& built) const;
 
 private:
-    double timeout_ = kDefaultExternalTimeoutSeconds;
+    ExternalLimits limits_;
+    bool refuse_scenario_programs_ = false;
     std::vector<std::string> names_;
     std::vector<std::unique_ptr<const Simulator>> command_line_;
     std::vector<std::unique_ptr<const Simulator>> from_files_;

@@ -1,6 +1,7 @@
 #include "external/external_simulator.h"
 
 #include "external/trajectory_reader.h"
+#include "platform/atomic_file.h"
 #include "platform/bounded_read.h"
 #include "platform/printable_text.h"
 #include "platform/program.h"
@@ -32,16 +33,12 @@ json vector_json(const Vec3& v, int dim) {
     return out;
 }
 
-// An empty file the program may write its settings to, removed with this.
+// An empty file the program may write its settings to, removed with this,
+// and by the interrupt handler when a signal ends the run first (Ctrl-C, or
+// the stress watchdog's SIGTERM to a worker that overstays).
 class SettingsFile {
 public:
-    SettingsFile() {
-        std::string pattern = (fs::temp_directory_path() / "bouncecheck-settings-XXXXXX").string();
-        const int fd = ::mkstemp(pattern.data());
-        if (fd < 0) throw std::runtime_error(fmt::format("cannot create a settings file in {}", pattern));
-        ::close(fd);
-        path_ = pattern;
-    }
+    SettingsFile() : path_(make()), removed_on_interrupt_(path_) {}
     ~SettingsFile() {
         std::error_code ec;
         fs::remove(path_, ec);
@@ -60,7 +57,16 @@ public:
     }
 
 private:
+    static std::string make() {
+        std::string pattern = (fs::temp_directory_path() / "bouncecheck-settings-XXXXXX").string();
+        const int fd = ::mkstemp(pattern.data());
+        if (fd < 0) throw std::runtime_error(fmt::format("cannot create a settings file in {}", pattern));
+        ::close(fd);
+        return pattern;
+    }
+
     std::string path_;
+    RemovedOnInterrupt removed_on_interrupt_;
 };
 
 // Streams rows into a RunSink: each one with the contacts seen since the
@@ -93,8 +99,8 @@ RunOutcome failed(RunOutcome out, std::string reason) {
 
 class ExternalSimulator final : public Simulator {
 public:
-    ExternalSimulator(ExternalDeclaration d, double timeout)
-        : declaration_(std::move(d)), timeout_(timeout),
+    ExternalSimulator(ExternalDeclaration d, ExternalLimits limits)
+        : declaration_(std::move(d)), limits_(limits),
           origin_(fmt::format("external: {}", fmt::join(declaration_.command, " "))) {}
 
     std::string_view name() const override { return declaration_.name; }
@@ -113,7 +119,8 @@ public:
         request.cwd = s.source.parent_path();
         request.input = external_input(s, declaration_.name, settings.path());
         request.on_output = [&](std::string_view bytes) { return reader.feed(bytes, rows); };
-        request.silence_timeout_seconds = timeout_;
+        request.silence_timeout_seconds = limits_.silence_seconds;
+        request.total_timeout_seconds = limits_.total_seconds;
         ProgramEnd end;
         out.run_seconds = timed_seconds([&] { end = run_program(request); });
 
@@ -122,7 +129,7 @@ public:
             return end.stderr_tail.empty() ? what : fmt::format("{}; stderr: {}", what, end.stderr_tail);
         };
         if (reader.problem()) return failed(out, with_stderr("malformed trajectory: " + reader.problem()->format()));
-        if (!end.succeeded()) return failed(out, end.describe(timeout_));
+        if (!end.succeeded()) return failed(out, end.describe());
         if (!reader.finish(rows)) {
             if (rows.stopped()) return out;
             return failed(out, with_stderr("malformed trajectory: " + reader.problem()->format()));
@@ -139,7 +146,7 @@ public:
 
 private:
     ExternalDeclaration declaration_;
-    double timeout_;
+    ExternalLimits limits_;
     std::string origin_;
 };
 
@@ -168,9 +175,8 @@ private:
 
 }  // namespace
 
-std::unique_ptr<const Simulator> make_external_simulator(ExternalDeclaration declaration,
-                                                         double silence_timeout_seconds) {
-    return std::make_unique<ExternalSimulator>(std::move(declaration), silence_timeout_seconds);
+std::unique_ptr<const Simulator> make_external_simulator(ExternalDeclaration declaration, ExternalLimits limits) {
+    return std::make_unique<ExternalSimulator>(std::move(declaration), limits);
 }
 
 std::unique_ptr<const Simulator> make_imported_trajectory(std::string name, std::string file) {

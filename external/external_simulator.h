@@ -15,6 +15,17 @@ namespace bouncecheck {
 
 inline constexpr int kExternalProtocol = 1;
 inline constexpr double kDefaultExternalTimeoutSeconds = 600;
+// Where a command sets no budget of its own (`run` and `sweep` without
+// --budget), an external program may still run at most this long in all.
+inline constexpr double kDefaultExternalTotalSeconds = 3600;
+
+// How long an external program may run: killed after `silence_seconds`
+// without output (--external-timeout), or after `total_seconds` in all (the
+// command's --budget, or the default above), whichever comes first.
+struct ExternalLimits {
+    double silence_seconds = kDefaultExternalTimeoutSeconds;
+    double total_seconds = kDefaultExternalTotalSeconds;
+};
 
 // NAME=COMMAND, from --external or a scenario's [external.NAME].
 struct ExternalDeclaration {
@@ -23,9 +34,8 @@ struct ExternalDeclaration {
 };
 
 // Runs `declaration`'s program once per scenario, in the scenario's folder,
-// killed after `silence_timeout_seconds` without output.
-std::unique_ptr<const Simulator> make_external_simulator(ExternalDeclaration declaration,
-                                                         double silence_timeout_seconds);
+// within `limits`.
+std::unique_ptr<const Simulator> make_external_simulator(ExternalDeclaration declaration, ExternalLimits limits);
 
 // Replays the trajectory in `file` (checked beforehand with check_trajectory_file).
 std::unique_ptr<const Simulator> make_imported_trajectory(std::string name, std::string file);

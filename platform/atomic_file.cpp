@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <atomic>
+#include <cerrno>
 #include <csignal>
 #include <cstring>
 #include <stdexcept>
@@ -57,6 +58,10 @@ void remove_unfinished_files_on_interrupt() {
     for (int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, remove_unfinished_and_die);
 }
 
+RemovedOnInterrupt::RemovedOnInterrupt(const std::filesystem::path& path) : slot_(claim_slot(path)) {}
+
+RemovedOnInterrupt::~RemovedOnInterrupt() { release_slot(slot_); }
+
 AtomicFile::AtomicFile(std::filesystem::path target) : target_(std::move(target)) {
     // A name unique to this process: two runs writing the same folder never share a temp file.
     temp_ = target_;
@@ -86,13 +91,19 @@ void AtomicFile::write(std::string_view bytes) {
 void AtomicFile::commit() {
     const bool flushed = std::fflush(file_) == 0 && ::fsync(::fileno(file_)) == 0;
     const bool closed = std::fclose(file_) == 0;
+    const int write_error = errno;
     file_ = nullptr;
-    if (!flushed || !closed) {
+    std::error_code renamed;
+    if (flushed && closed) std::filesystem::rename(temp_, target_, renamed);
+    if (!flushed || !closed || renamed) {
+        // Nothing half-written stays: the target keeps what it had.
         std::error_code ignored;
         std::filesystem::remove(temp_, ignored);
-        throw std::runtime_error(fmt::format("write failed: {}", temp_.string()));
+        release_slot(slot_);
+        slot_ = -1;
+        throw std::runtime_error(fmt::format("cannot write {}: {}", target_.string(),
+                                             renamed ? renamed.message() : std::string(std::strerror(write_error))));
     }
-    std::filesystem::rename(temp_, target_);
     release_slot(slot_);
     slot_ = -1;
 }

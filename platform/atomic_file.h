@@ -18,7 +18,8 @@ public:
     ~AtomicFile();  // removes the temporary file unless commit() succeeded
 
     void write(std::string_view bytes);
-    // Flushes, closes and renames the temporary file onto the target.
+    // Flushes, closes and renames the temporary file onto the target. On
+    // failure the temporary file is removed and the error names the target.
     void commit();
 
 private:
@@ -26,6 +27,21 @@ private:
     std::filesystem::path temp_;
     std::FILE* file_ = nullptr;
     int slot_ = -1;  // in the registry the interrupt handler cleans up
+};
+
+// A temporary file of another kind (an external program's settings file)
+// that an interrupt must not leave behind either: while this lives, the
+// interrupt handler below removes `path`. Removing it otherwise stays the
+// owner's job.
+class RemovedOnInterrupt {
+public:
+    explicit RemovedOnInterrupt(const std::filesystem::path& path);
+    RemovedOnInterrupt(const RemovedOnInterrupt&) = delete;
+    RemovedOnInterrupt& operator=(const RemovedOnInterrupt&) = delete;
+    ~RemovedOnInterrupt();
+
+private:
+    int slot_ = -1;
 };
 
 // Writes `contents` to `target` atomically.

@@ -16,7 +16,8 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <pthread.h>
-#include <spawn.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -66,17 +67,21 @@ void close_fd(int& fd) {
 
 using Clock = std::chrono::steady_clock;
 
-// The process groups of the programs running now, in slots a signal handler
-// can read (kill_running_programs). 0: a free slot.
-constexpr int kGroupSlots = 256;
-std::atomic<pid_t> g_groups[kGroupSlots];
+// The shepherds (below) of the programs running now, in slots a signal
+// handler can read (kill_running_programs). 0: a free slot.
+constexpr int kShepherdSlots = 256;
+std::atomic<pid_t> g_shepherds[kShepherdSlots];
 
-int claim_group_slot(pid_t group) {
-    for (int i = 0; i < kGroupSlots; ++i) {
+int claim_shepherd_slot(pid_t shepherd) {
+    for (int i = 0; i < kShepherdSlots; ++i) {
         pid_t expected = 0;
-        if (g_groups[i].compare_exchange_strong(expected, group)) return i;
+        if (g_shepherds[i].compare_exchange_strong(expected, shepherd)) return i;
     }
-    return -1;  // more programs at once than slots: that one is only killed by its run's end
+    return -1;  // more programs at once than slots: that one is only stopped by its run's end
+}
+
+void release_shepherd_slot(int slot) {
+    if (slot >= 0) g_shepherds[slot].store(0);
 }
 
 int millis_until(Clock::time_point deadline) {
@@ -135,7 +140,7 @@ std::string last_lines(std::string_view text, std::size_t count) {
     return out;
 }
 
-std::string ProgramEnd::describe(double silence_timeout_seconds) const {
+std::string ProgramEnd::describe() const {
     std::string what;
     switch (how) {
         case How::exited:
@@ -146,66 +151,295 @@ std::string ProgramEnd::describe(double silence_timeout_seconds) const {
         case How::timed_out:
             what = fmt::format("no output for {} s (--external-timeout): killed", silence_timeout_seconds);
             break;
+        case How::over_total_time:
+            what = fmt::format("still running after {} s, its limit in all: killed", total_timeout_seconds);
+            break;
         case How::stopped: what = "stopped by the harness"; break;
         case How::not_started: return fmt::format("cannot start: {}", error);
     }
     return stderr_tail.empty() ? what : fmt::format("{}; stderr: {}", what, stderr_tail);
 }
 
+namespace {
+
+// ----------------------------------------------------------- the shepherd
+//
+// Each program runs under a shepherd: a process forked from this one that
+// is a child subreaper (prctl PR_SET_CHILD_SUBREAPER), so every process the
+// program leaves behind, even one that escaped its process group with
+// setsid or setpgid, is re-parented to the shepherd, not to init. When the
+// program exits, or when the harness sends SIGTERM, the shepherd kills the
+// program's group and then every descendant it still has, reaps them, and
+// reports how the program ended. Nothing the program started outlives it,
+// and no leftover child can hold its standard output open.
+//
+// A subreaper, not a cgroup: it needs no privilege and no delegated cgroup
+// tree, which an unprivileged user (a CI runner, a Slurm job) rarely has.
+//
+// The shepherd is forked from a process that may have threads, and never
+// calls exec: it uses async-signal-safe system calls only (no allocation,
+// no stdio, no locks), on what the parent prepared before the fork.
+
+// What the shepherd reports on its status pipe, once, as it ends.
+struct ShepherdReport {
+    enum Kind : int { exited, signalled, not_started } kind = not_started;
+    int code = 0;  // exit status, signal, or errno (not_started)
+    int chdir_failed = 0;  // not_started: the working folder, not exec, failed
+};
+
+// Everything the shepherd and the program's exec need, made before the fork.
+struct ShepherdPlan {
+    const char* path = nullptr;  // the program's file
+    char* const* argv = nullptr;
+    const char* cwd = nullptr;   // nullptr: the harness's
+    int stdin_fd = -1, stdout_fd = -1, stderr_fd = -1;
+    int status_fd = -1;  // the status pipe's write end
+};
+
+volatile sig_atomic_t g_shepherded_group = 0;  // in the shepherd: the program's group, once started
+
+extern "C" void shepherd_on_stop(int) {
+    // The harness (or its death: PR_SET_PDEATHSIG) says stop: the program's
+    // group dies now; what it left is swept up once the program is reaped.
+    if (const pid_t g = g_shepherded_group; g > 0) ::kill(-g, SIGKILL);
+}
+
+void write_all(int fd, const void* data, std::size_t size) {
+    const char* p = static_cast<const char*>(data);
+    while (size > 0) {
+        const ssize_t n = ::write(fd, p, size);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return;
+        p += n;
+        size -= static_cast<std::size_t>(n);
+    }
+}
+
+// Kills and reaps every child the shepherd has, repeatedly (a dying child's
+// own children are re-parented here), until it has none. The children are
+// listed from /proc/self/task/<tid>/children; without it, from every
+// /proc/<pid>/stat whose parent is this process.
+void sweep_descendants() {
+    const pid_t self = ::getpid();
+    char children_file[64] = "/proc/self/task/";
+    {
+        char digits[16];
+        int n = 0;
+        for (pid_t v = self; v > 0; v /= 10) digits[n++] = static_cast<char>('0' + v % 10);
+        std::size_t at = std::strlen(children_file);
+        while (n > 0) children_file[at++] = digits[--n];
+        std::memcpy(children_file + at, "/children", sizeof "/children");
+    }
+    const auto kill_listed = [&]() -> int {
+        int killed = 0;
+        const int fd = ::open(children_file, O_RDONLY | O_CLOEXEC);
+        if (fd < 0) return -1;
+        char text[4096];
+        ssize_t n = 0;
+        pid_t pid = 0;
+        while ((n = ::read(fd, text, sizeof text)) > 0) {
+            for (ssize_t i = 0; i < n; ++i) {
+                if (text[i] >= '0' && text[i] <= '9') {
+                    pid = pid * 10 + (text[i] - '0');
+                } else if (pid > 0) {
+                    ::kill(pid, SIGKILL);
+                    ++killed;
+                    pid = 0;
+                }
+            }
+        }
+        if (pid > 0) ::kill(pid, SIGKILL), ++killed;
+        ::close(fd);
+        return killed;
+    };
+    for (int round = 0; round < 10000; ++round) {
+        if (kill_listed() < 0) {
+            // No children file: wait for what is left (the program's group
+            // is already dead; an escapee is waited for, not missed silently).
+            while (::waitpid(-1, nullptr, 0) > 0 || errno == EINTR) {
+            }
+            return;
+        }
+        const pid_t reaped = ::waitpid(-1, nullptr, 0);
+        if (reaped < 0 && errno == ECHILD) return;
+    }
+}
+
+// Closes every descriptor but `keep` (sorted): the shepherd never execs, so
+// close-on-exec does not close for it the pipes of the harness, among them
+// other programs' standard input, which would then never end.
+void close_all_but(const int (&keep)[4]) {
+    unsigned int from = 0;
+    for (const int fd : keep) {
+        if (fd > static_cast<int>(from) && ::close_range(from, static_cast<unsigned int>(fd) - 1, 0) != 0) {
+            for (int other = static_cast<int>(from); other < fd; ++other) ::close(other);
+        }
+        from = static_cast<unsigned int>(fd) + 1;
+    }
+    if (::close_range(from, ~0U, 0) != 0) {
+        rlimit files{};
+        ::getrlimit(RLIMIT_NOFILE, &files);
+        for (rlim_t fd = from; fd < files.rlim_cur && fd < (1u << 20); ++fd) ::close(static_cast<int>(fd));
+    }
+}
+
+[[noreturn]] void run_shepherd(const ShepherdPlan& plan, pid_t harness) {
+    int keep[4] = {plan.stdin_fd, plan.stdout_fd, plan.stderr_fd, plan.status_fd};
+    std::sort(std::begin(keep), std::end(keep));  // std::sort on four ints: no allocation
+    close_all_but(keep);
+    ::setpgid(0, 0);  // away from the terminal's Ctrl-C: the harness decides
+    ::prctl(PR_SET_CHILD_SUBREAPER, 1);
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+    // The harness's handlers are not the shepherd's: default for all, then its own.
+    struct sigaction dfl {};
+    dfl.sa_handler = SIG_DFL;
+    for (int sig = 1; sig < NSIG; ++sig) ::sigaction(sig, &dfl, nullptr);
+    struct sigaction stop {};
+    stop.sa_handler = shepherd_on_stop;  // no SA_RESTART: waitid returns EINTR
+    for (int sig : {SIGTERM, SIGINT, SIGHUP}) ::sigaction(sig, &stop, nullptr);
+    ShepherdReport report;
+    if (::getppid() != harness) {  // the harness died before PDEATHSIG was set
+        write_all(plan.status_fd, &report, sizeof report);
+        ::_exit(0);
+    }
+
+    int exec_pipe[2];
+    if (::pipe2(exec_pipe, O_CLOEXEC) != 0) {
+        report.code = errno;
+        write_all(plan.status_fd, &report, sizeof report);
+        ::_exit(0);
+    }
+    const pid_t program = ::fork();  // every signal is still blocked, as the parent left it
+    if (program == 0) {
+        ::setpgid(0, 0);  // its own group, without the shepherd: killing it spares the sweep
+        ::dup2(plan.stdin_fd, STDIN_FILENO);
+        ::dup2(plan.stdout_fd, STDOUT_FILENO);
+        ::dup2(plan.stderr_fd, STDERR_FILENO);
+        ::prctl(PR_SET_PDEATHSIG, 0);
+        ShepherdReport failed;
+        if (plan.cwd && ::chdir(plan.cwd) != 0) {
+            failed.code = errno;
+            failed.chdir_failed = 1;
+        } else {
+            sigset_t none;
+            sigemptyset(&none);
+            ::sigprocmask(SIG_SETMASK, &none, nullptr);
+            ::execve(plan.path, plan.argv, environ);
+            failed.code = errno;
+        }
+        write_all(exec_pipe[1], &failed, sizeof failed);
+        ::_exit(127);
+    }
+    ::close(exec_pipe[1]);
+    for (int fd : {plan.stdin_fd, plan.stdout_fd, plan.stderr_fd}) ::close(fd);  // only the program holds them
+    if (program < 0) {
+        report.code = errno;
+        write_all(plan.status_fd, &report, sizeof report);
+        ::_exit(0);
+    }
+    ::setpgid(program, program);  // also here: the harness's stop may come before the child's own call
+    g_shepherded_group = program;
+    sigset_t none;
+    sigemptyset(&none);
+    ::sigprocmask(SIG_SETMASK, &none, nullptr);  // a stop that came meanwhile lands now
+
+    // Exec either closes the pipe (started) or says why it did not.
+    ShepherdReport exec_failure;
+    ssize_t got = 0;
+    while ((got = ::read(exec_pipe[0], &exec_failure, sizeof exec_failure)) < 0 && errno == EINTR) {
+    }
+    ::close(exec_pipe[0]);
+
+    siginfo_t info{};
+    while (::waitid(P_PID, static_cast<id_t>(program), &info, WEXITED | WNOWAIT) != 0 && errno == EINTR) {
+    }
+    sigset_t all;
+    sigfillset(&all);
+    ::sigprocmask(SIG_SETMASK, &all, nullptr);  // the sweep below kills everything anyway
+    if (got == static_cast<ssize_t>(sizeof exec_failure)) {
+        report = exec_failure;
+    } else if (info.si_code == CLD_EXITED) {
+        report.kind = ShepherdReport::exited;
+        report.code = info.si_status;
+    } else {
+        report.kind = ShepherdReport::signalled;
+        report.code = info.si_status;
+    }
+    ::kill(-program, SIGKILL);  // the group: still the program's until it is reaped below
+    sweep_descendants();
+    write_all(plan.status_fd, &report, sizeof report);
+    ::_exit(0);
+}
+
+// The program's file as execve wants it: a name without '/' looked up on
+// PATH as posix_spawnp does, or empty with the errno of the failure.
+std::string exec_path(const std::string& program, int& error) {
+    error = 0;
+    if (program.find('/') != std::string::npos) return program;
+    const char* path = std::getenv("PATH");
+    std::stringstream dirs(path ? path : "/usr/local/bin:/usr/bin:/bin");
+    for (std::string dir; std::getline(dirs, dir, ':');) {
+        const fs::path candidate = fs::path(dir.empty() ? "." : dir) / program;
+        if (is_executable_file(candidate)) return candidate.string();
+    }
+    error = ENOENT;
+    return {};
+}
+
+}  // namespace
+
 ProgramEnd run_program(const ProgramRequest& request) {
     ProgramEnd end;
+    end.silence_timeout_seconds = request.silence_timeout_seconds;
+    end.total_timeout_seconds = request.total_timeout_seconds;
     if (request.argv.empty()) {
         end.error = "the command is empty";
         return end;
     }
+    int lookup_error = 0;
+    const std::string path = exec_path(request.argv[0], lookup_error);
+    if (path.empty()) {
+        end.error = fmt::format("{}: {}", request.argv[0], std::strerror(lookup_error));
+        return end;
+    }
     // Close-on-exec from birth: a program started by another thread at the
     // same time must not inherit these ends (it would hold our pipes open).
-    Pipe in, out, err;
-    for (Pipe* p : {&in, &out, &err}) {
+    Pipe in, out, err, status;
+    for (Pipe* p : {&in, &out, &err, &status}) {
         int fds[2];
         if (::pipe2(fds, O_CLOEXEC) != 0) {
             end.error = fmt::format("pipe: {}", std::strerror(errno));
-            for (Pipe* q : {&in, &out, &err}) close_fd(q->read), close_fd(q->write);
+            for (Pipe* q : {&in, &out, &err, &status}) close_fd(q->read), close_fd(q->write);
             return end;
         }
         *p = Pipe{fds[0], fds[1]};
     }
-
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_adddup2(&actions, in.read, STDIN_FILENO);
-    posix_spawn_file_actions_adddup2(&actions, out.write, STDOUT_FILENO);
-    posix_spawn_file_actions_adddup2(&actions, err.write, STDERR_FILENO);
-    if (!request.cwd.empty()) posix_spawn_file_actions_addchdir_np(&actions, request.cwd.c_str());
-    posix_spawnattr_t attr;
-    posix_spawnattr_init(&attr);
-    // A group of its own, so that the program's own children are killed with
-    // it; default signal handling and an empty mask, whatever this thread has.
-    sigset_t none, defaults;
-    sigemptyset(&none);
-    sigemptyset(&defaults);
-    sigaddset(&defaults, SIGPIPE);
-    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
-    posix_spawnattr_setpgroup(&attr, 0);
-    posix_spawnattr_setsigmask(&attr, &none);
-    posix_spawnattr_setsigdefault(&attr, &defaults);
-
     std::vector<char*> argv;
     for (const std::string& a : request.argv) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
-    pid_t pid = -1;
-    const int spawned = ::posix_spawnp(&pid, argv[0], &actions, &attr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    posix_spawnattr_destroy(&attr);
+    const ShepherdPlan plan{path.c_str(), argv.data(), request.cwd.empty() ? nullptr : request.cwd.c_str(),
+                            in.read, out.write, err.write, status.write};
+
+    // Every signal blocked across the fork: the shepherd starts with none
+    // delivered until it has its own handlers.
+    sigset_t all, old;
+    sigfillset(&all);
+    ::pthread_sigmask(SIG_SETMASK, &all, &old);
+    const pid_t harness = ::getpid();
+    const pid_t shepherd = ::fork();
+    if (shepherd == 0) run_shepherd(plan, harness);
+    const int fork_error = errno;
+    ::pthread_sigmask(SIG_SETMASK, &old, nullptr);
     close_fd(in.read);
     close_fd(out.write);
     close_fd(err.write);
-    if (spawned != 0) {
-        end.error = fmt::format("{}: {}", request.argv[0], std::strerror(spawned));
-        for (int* fd : {&in.write, &out.read, &err.read}) close_fd(*fd);
+    close_fd(status.write);
+    if (shepherd < 0) {
+        end.error = fmt::format("fork: {}", std::strerror(fork_error));
+        for (int* fd : {&in.write, &out.read, &err.read, &status.read}) close_fd(*fd);
         return end;
     }
-    const int group_slot = claim_group_slot(pid);
+    const int slot = claim_shepherd_slot(shepherd);
     for (int fd : {in.write, out.read, err.read}) ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) | O_NONBLOCK);
 
     const SigpipeHeld held;
@@ -213,7 +447,16 @@ ProgramEnd run_program(const ProgramRequest& request) {
     char buffer[65536];
     std::size_t written = 0;
     if (request.input.empty()) close_fd(in.write);
-    auto deadline = deadline_after(request.silence_timeout_seconds);
+    auto silence_deadline = deadline_after(request.silence_timeout_seconds);
+    const auto total_deadline = request.total_timeout_seconds > 0 ? deadline_after(request.total_timeout_seconds)
+                                                                  : Clock::time_point::max();
+    const auto over_a_limit = [&]() -> std::optional<ProgramEnd::How> {
+        const auto now = Clock::now();
+        if (now >= total_deadline) return ProgramEnd::How::over_total_time;
+        if (now >= silence_deadline) return ProgramEnd::How::timed_out;
+        return std::nullopt;
+    };
+    const auto millis_left = [&] { return millis_until(std::min(silence_deadline, total_deadline)); };
     const auto drain_stderr = [&] {
         for (;;) {
             const ssize_t n = ::read(err.read, buffer, sizeof buffer);
@@ -226,22 +469,20 @@ ProgramEnd run_program(const ProgramRequest& request) {
         }
     };
 
-    // Until standard output ends: feed the input, pass the output on, keep
-    // the tail of standard error (a program blocked on a full stderr pipe
-    // would otherwise never finish).
+    // Until standard output ends (the program and everything it left are
+    // gone, or closed it): feed the input, pass the output on, keep the tail
+    // of standard error (a program blocked on a full stderr pipe would
+    // otherwise never finish).
     std::optional<ProgramEnd::How> cut;  // why the harness ended the run
     while (out.read >= 0) {
         pollfd fds[3] = {{in.write, POLLOUT, 0}, {out.read, POLLIN, 0}, {err.read, POLLIN, 0}};
-        const int ready = ::poll(fds, 3, millis_until(deadline));
+        const int ready = ::poll(fds, 3, millis_left());
         if (ready < 0 && errno != EINTR) {
             end.error = fmt::format("poll: {}", std::strerror(errno));
             cut = ProgramEnd::How::stopped;
             break;
         }
-        if (Clock::now() >= deadline) {
-            cut = ProgramEnd::How::timed_out;
-            break;
-        }
+        if ((cut = over_a_limit())) break;
         if (ready <= 0) continue;
         if (fds[0].revents & (POLLOUT | POLLERR | POLLHUP)) {
             const ssize_t n = ::write(in.write, request.input.data() + written, request.input.size() - written);
@@ -253,7 +494,7 @@ ProgramEnd run_program(const ProgramRequest& request) {
         if (fds[1].revents & (POLLIN | POLLHUP | POLLERR)) {
             const ssize_t n = ::read(out.read, buffer, sizeof buffer);
             if (n > 0) {
-                deadline = deadline_after(request.silence_timeout_seconds);
+                silence_deadline = deadline_after(request.silence_timeout_seconds);
                 if (!request.on_output({buffer, static_cast<std::size_t>(n)})) {
                     cut = ProgramEnd::How::stopped;
                     break;
@@ -265,46 +506,60 @@ ProgramEnd run_program(const ProgramRequest& request) {
     }
     close_fd(in.write);
 
-    // Standard output has ended: wait for the program itself to exit (within
-    // the same silence limit), without reaping it yet, so that its process
-    // group cannot be reused before it is killed below.
-    while (!cut) {
-        siginfo_t info{};
-        if (::waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT) == 0 && info.si_pid == pid)
-            break;
-        if (Clock::now() >= deadline) {
-            cut = ProgramEnd::How::timed_out;
+    // Standard output has ended, or the harness cut the run: wait for the
+    // shepherd (within the same limits; once cut, it is told to stop, and
+    // killed if it has not within five seconds).
+    auto give_up = Clock::time_point::max();
+    if (cut) ::kill(shepherd, SIGTERM), give_up = deadline_after(5);
+    int status_word = 0;
+    for (;;) {
+        const pid_t gone = ::waitpid(shepherd, &status_word, WNOHANG);
+        if (gone == shepherd || (gone < 0 && errno != EINTR)) break;
+        if (!cut && (cut = over_a_limit())) ::kill(shepherd, SIGTERM), give_up = deadline_after(5);
+        if (Clock::now() >= give_up) {
+            ::kill(shepherd, SIGKILL);
+            while (::waitpid(shepherd, &status_word, 0) < 0 && errno == EINTR) {
+            }
             break;
         }
         pollfd fd{err.read, POLLIN, 0};
         if (err.read >= 0 && ::poll(&fd, 1, 20) > 0) drain_stderr();
         else if (err.read < 0) ::usleep(20000);
     }
-    ::kill(-pid, SIGKILL);  // the group: the program if the harness cut it short, and any child it left
-    if (group_slot >= 0) g_groups[group_slot].store(0);  // before reaping: the group id stays ours until then
+    release_shepherd_slot(slot);
     if (err.read >= 0) drain_stderr();
-    int status = 0;
-    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    ShepherdReport report;
+    ssize_t got = 0;
+    while ((got = ::read(status.read, &report, sizeof report)) < 0 && errno == EINTR) {
     }
     close_fd(out.read);
     close_fd(err.read);
+    close_fd(status.read);
 
     end.stderr_tail = last_lines(err_tail, 5);
     if (cut) {
         end.how = *cut;
-    } else if (WIFSIGNALED(status)) {
+    } else if (got != static_cast<ssize_t>(sizeof report)) {
+        end.how = ProgramEnd::How::stopped;  // the shepherd died without a word
+        end.error = "its supervising process ended without reporting";
+    } else if (report.kind == ShepherdReport::not_started) {
+        end.error = report.chdir_failed ? fmt::format("{}: {}", request.cwd.string(), std::strerror(report.code))
+                                        : fmt::format("{}: {}", request.argv[0], std::strerror(report.code));
+    } else if (report.kind == ShepherdReport::signalled) {
         end.how = ProgramEnd::How::signalled;
-        end.code = WTERMSIG(status);
+        end.code = report.code;
     } else {
         end.how = ProgramEnd::How::exited;
-        end.code = WEXITSTATUS(status);
+        end.code = report.code;
     }
     return end;
 }
 
 void kill_running_programs() {
-    for (std::atomic<pid_t>& group : g_groups)
-        if (const pid_t g = group.load(); g > 0) ::kill(-g, SIGKILL);  // async-signal-safe
+    // Each shepherd kills its program's whole tree; the caller dies next,
+    // and a shepherd finishes its sweep without it.
+    for (std::atomic<pid_t>& shepherd : g_shepherds)
+        if (const pid_t pid = shepherd.load(); pid > 0) ::kill(pid, SIGTERM);  // async-signal-safe
 }
 
 }  // namespace bouncecheck

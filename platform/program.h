@@ -1,8 +1,9 @@
 // Running another program (an external simulator, docs/external.md): its
 // standard input fed, its standard output streamed to the caller as it comes,
-// a silence timeout, and nothing left behind: the program runs in a process
-// group of its own, and whatever is left of that group when the run ends is
-// killed and the program reaped.
+// a silence limit and an overall one, and nothing left behind: the program
+// runs under a supervising process that is its subreaper, which kills and
+// reaps every process the program started, even those that left its process
+// group or session, when the program ends or the harness stops it.
 #pragma once
 
 #include <filesystem>
@@ -34,26 +35,29 @@ struct ProgramRequest {
     // run (the program is killed).
     std::function<bool(std::string_view)> on_output;
     double silence_timeout_seconds = 600;  // no standard output for this long: killed
+    double total_timeout_seconds = 0;      // running this long in all: killed; 0: no limit
 };
 
 struct ProgramEnd {
-    enum class How { exited, signalled, timed_out, stopped, not_started } how = How::not_started;
+    // timed_out: silent too long; over_total_time: ran too long in all.
+    enum class How { exited, signalled, timed_out, over_total_time, stopped, not_started } how = How::not_started;
     int code = 0;             // exit status, or the signal
     std::string error;        // not_started: why
     std::string stderr_tail;  // the last lines of its standard error (last_lines)
+    double silence_timeout_seconds = 0, total_timeout_seconds = 0;  // the request's limits
 
     bool succeeded() const { return how == How::exited && code == 0; }
     // "exit status 3", "killed by signal 11 (Segmentation fault)", ... with
     // the last lines of standard error; empty when it succeeded.
-    std::string describe(double silence_timeout_seconds) const;
+    std::string describe() const;
 };
 
-// Runs the program to its end. Blocks; safe to call from several threads at
-// once (every descriptor is close-on-exec, SIGPIPE is held off in the calling
-// thread only).
+// Runs the program to its end: until it and every process it started are
+// gone. Blocks; safe to call from several threads at once (every descriptor
+// is close-on-exec, SIGPIPE is held off in the calling thread only).
 ProgramEnd run_program(const ProgramRequest& request);
 
-// Kills the process group of every program run_program is running.
+// Stops every program run_program is running, with everything it started.
 // Async-signal-safe: the interrupt handler (atomic_file.h) calls it, so that
 // a Ctrl-C does not leave a program running that the terminal's signal never
 // reached (it runs in a group of its own).

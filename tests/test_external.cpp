@@ -49,7 +49,7 @@ std::unique_ptr<const Simulator> replay(const std::string& name, const std::stri
                                         const std::string& path = "") {
     std::vector<std::string> argv{kReplay, kGolden3d, mode};
     if (!path.empty()) argv.push_back(path);
-    return make_external_simulator(ExternalDeclaration{name, argv}, timeout);
+    return make_external_simulator(ExternalDeclaration{name, argv}, ExternalLimits{timeout});
 }
 
 // The run of `sim` beside the reference, as `bouncecheck run` makes it.
@@ -426,7 +426,7 @@ TEST(ExternalExamples, TheEngineWrapperMatchesTheBuiltInSimulatorBitForBit) {
             if (o.ccd) table["ccd"] = *o.ccd;
             s.passthrough_tables[engine + "-ext"] = table.dump();
             const auto wrapped = make_external_simulator(
-                ExternalDeclaration{engine + "-ext", {kEngineExample, engine}}, 600);
+                ExternalDeclaration{engine + "-ext", {kEngineExample, engine}}, ExternalLimits{});
             const SimulatorSummary a = record_run(*built, s), b = record_run(*wrapped, s);
             ASSERT_EQ(b.status, RunStatus::ok) << scenario << " " << engine << ": " << b.reason;
             SCOPED_TRACE(std::string(scenario) + " " + engine);

@@ -29,6 +29,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <sys/resource.h>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -310,6 +311,19 @@ TEST(StressMonteCarlo, DeterministicAndSeeded) {
         differ += scenario_toml(a[i]) != scenario_toml(c[i]);
     }
     EXPECT_EQ(differ, 50);
+}
+
+// A filtered set makes only the kept scenarios, each the same as in the
+// whole set (--only monte-carlo-NNNN no longer builds the whole set).
+TEST(StressMonteCarlo, AFilteredSetKeepsTheSameScenarios) {
+    const auto all = monte_carlo_scenarios(kMonteCarloSeed, 50);
+    const auto kept = monte_carlo_scenarios(kMonteCarloSeed, 50, [](const std::string& name) {
+        return name == "monte-carlo-0007" || name == "monte-carlo-0049";
+    });
+    ASSERT_EQ(kept.size(), 2u);
+    EXPECT_EQ(scenario_toml(kept[0]), scenario_toml(all[7]));
+    EXPECT_EQ(scenario_toml(kept[1]), scenario_toml(all[49]));
+    EXPECT_EQ(kept[1].description, all[49].description);
 }
 
 TEST(StressMonteCarlo, EveryScenarioIsValidAndRoundTrips) {
@@ -642,6 +656,23 @@ TEST_F(StressCli, SameResultsForEveryJobCount) {
         return h;
     };
     EXPECT_EQ(digest_without_timings(1), digest_without_timings(2));
+}
+
+// The hostile audit's finding 18: a million generated scenarios with --only
+// picking one cost that one's memory (1.17 GB before), and name the run's
+// generated range when the name is not in it.
+TEST_F(StressCli, OnlyOneOfAMillionGeneratedScenariosStaysSmall) {
+    const auto r = test::bouncecheck("stress --engines exact --only monte-carlo-0007 --monte-carlo 1000000 --out " +
+                                     out_.string());
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("1/1"), std::string::npos) << r.output;
+    rusage children{};
+    ::getrusage(RUSAGE_CHILDREN, &children);  // the largest child this test waited for: that run
+    EXPECT_LT(children.ru_maxrss, 300 * 1024) << "KiB";
+    const auto missing = test::bouncecheck("stress --only monte-carlo-0012 --monte-carlo 10 --out " + out_.string());
+    EXPECT_EQ(missing.status, 2);
+    EXPECT_NE(missing.output.find("generated: monte-carlo-0000 to monte-carlo-0009"), std::string::npos)
+        << missing.output;
 }
 
 TEST_F(StressCli, BadInputExitsTwo) {

@@ -97,10 +97,12 @@ int command_run(RunOptions opt) {
         fmt::print(stderr, "error: no scenario given and none bundled in {}\n", bundled_scenario_dir().string());
         return kBadInput;
     }
-    auto extra = ExtraSimulators::from_options(opt.external);
+    ExternalOptions external = opt.external;
+    if (opt.budget > 0) external.total_seconds = opt.budget;  // an external program's run is bounded the same
+    auto extra = ExtraSimulators::from_options(external);
     if (!extra) return kBadInput;
     auto scenarios = load_all(files, extra->command_line_names());
-    if (!scenarios) return kBadInput;
+    if (!scenarios || !extra->admit_scenario_programs(*scenarios)) return kBadInput;
     std::set<std::string> names;
     for (const auto& s : *scenarios) {
         if (!names.insert(s.name).second) {
@@ -174,13 +176,15 @@ Command add_run_command(CLI::App& app) {
         ->excludes("--in-process");
     command->add_option("--budget", opt->budget,
                         "Wall-time limit of one engine's run of one scenario (s): past it the engine's worker process "
-                        "is killed and the engine fails as hung (default: no limit; not with --in-process)")
+                        "is killed and the engine fails as hung; an external program is killed at it too (default: "
+                        "no limit, and an hour for an external program; not with --in-process)")
         ->check(finite_between(0.001, 1e7))
         ->excludes("--in-process");
     add_no_timings_flag(*command, opt->no_timings);
     add_list_option(*command, "--threshold", opt->threshold_args,
                     "KEY=VALUE: a [thresholds] limit for every simulator, over the scenario's");
     add_external_options(*command, opt->external);
+    add_scenario_programs_flag(*command, opt->external);
     command->add_option("--baseline", opt->baseline,
                         "Then diff against this earlier run (a report.json or output folder): exit 1 if anything "
                         "changed beyond tolerance, diff.md and diff.json beside the reports");

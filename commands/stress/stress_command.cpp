@@ -97,37 +97,52 @@ struct StressPlan {
 
 std::optional<StressPlan> plan_stress(const StressOptions& opt) {
     // A program silent for longer than a run's whole budget has hung: it is
-    // killed then, not after the default ten minutes.
+    // killed then, not after the default ten minutes; and one still talking
+    // at the budget's end is killed there too.
     ExternalOptions external = opt.external;
     external.timeout_seconds = std::min(external.timeout_seconds, opt.budget);
+    external.total_seconds = opt.budget;
     auto extra = ExtraSimulators::from_options(external);
     if (!extra) return std::nullopt;
     auto scenarios = load_all(scenario_files(bundled_scenario_dir() / "stress"), extra->command_line_names());
     if (!scenarios) return std::nullopt;
-    std::vector<StressCase> cases = stress_suite(*scenarios, opt.monte_carlo);
     std::vector<std::string> only = opt.only;
     std::erase(only, std::string());  // "a,,b": the list's empty items
+    // Only the named cases are made: a million generated scenarios with
+    // --only picking one cost that one's memory, not a million's.
+    std::set<std::string> matched;
+    StressCaseFilter keep;
     if (!only.empty()) {
-        const auto named = [](const StressCase& c, const std::string& name) {
-            return c.row == name || c.scenario.name == name;
-        };
-        for (const auto& name : only) {
-            if (std::none_of(cases.begin(), cases.end(), [&](const StressCase& c) { return named(c, name); })) {
-                std::set<std::string> rows;
-                std::vector<std::string> names;
-                for (const auto& c : cases) {
-                    rows.insert(c.row);
-                    names.push_back(c.row);
-                    names.push_back(c.scenario.name);
-                }
-                fmt::print(stderr, "error: --only: no stress scenario or row '{}'{} (rows: {})\n", name,
-                           did_you_mean(name, names), fmt::join(rows, ", "));
-                return std::nullopt;
+        keep = [&](const std::string& row, const std::string& name) {
+            bool any = false;
+            for (const std::string& n : only) {
+                if (n != row && n != name) continue;
+                matched.insert(n);
+                any = true;
             }
+            return any;
+        };
+    }
+    std::vector<StressCase> cases = stress_suite(*scenarios, opt.monte_carlo, keep);
+    for (const auto& name : only) {
+        if (matched.count(name)) continue;
+        std::set<std::string> rows;
+        std::vector<std::string> names;
+        for (const Scenario& s : *scenarios) rows.insert(s.name);
+        rows.insert(kWallStartsRow);
+        for (const Scenario& s : wall_start_scenarios()) names.push_back(s.name);
+        if (opt.monte_carlo.count > 0) {
+            rows.insert(kMonteCarloRow);
+            names.push_back(fmt::format("{}-0000", kMonteCarloRow));
         }
-        std::erase_if(cases, [&](const StressCase& c) {
-            return std::none_of(only.begin(), only.end(), [&](const std::string& n) { return named(c, n); });
-        });
+        names.insert(names.end(), rows.begin(), rows.end());
+        const std::string generated =
+            opt.monte_carlo.count > 0
+                ? fmt::format("; generated: {}-0000 to {}-{:04d}", kMonteCarloRow, kMonteCarloRow, opt.monte_carlo.count - 1)
+                : "";
+        fmt::print(stderr, "error: --only: no stress scenario or row '{}'{} (rows: {}{})\n", name,
+                   did_you_mean(name, names), fmt::join(rows, ", "), generated);
+        return std::nullopt;
     }
     StressPlan plan{std::move(*extra), built_simulators(), std::move(cases), {}};
     const auto selected = select_simulators(plan.built, opt.engines);

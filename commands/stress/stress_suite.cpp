@@ -21,14 +21,14 @@ bool one_in(std::mt19937_64& g, std::uint64_t n) { return pick(g, n) == 0; }
 
 }  // namespace
 
-std::vector<Scenario> monte_carlo_scenarios(std::uint64_t seed, int count) {
+std::vector<Scenario> monte_carlo_scenarios(std::uint64_t seed, int count,
+                                            const std::function<bool(const std::string& name)>& keep) {
     std::mt19937_64 g(seed);
     std::vector<Scenario> out;
-    out.reserve(static_cast<std::size_t>(std::max(0, count)));
+    if (!keep) out.reserve(static_cast<std::size_t>(std::max(0, count)));
+    Scenario s;  // reused: a scenario not kept costs its draws only
     for (int n = 0; n < count; ++n) {
-        Scenario s;
         s.name = fmt::format("{}-{:04d}", kMonteCarloRow, n);
-        s.description = fmt::format("Monte-Carlo scenario {} of seed {}", n, seed);
         s.dim = 2 + static_cast<int>(pick(g, 2));
         s.room = s.position = s.velocity = s.gravity = Vec3::Zero();
         for (int i = 0; i < s.dim; ++i) s.room[i] = uniform(g, 0.2, 3.0);
@@ -60,7 +60,9 @@ std::vector<Scenario> monte_carlo_scenarios(std::uint64_t seed, int count) {
         // dt = m 2^-e, m in [1, 2): log-uniform-like without a libm call.
         s.dt = std::ldexp(uniform(g, 1.0, 2.0), -static_cast<int>(5 + pick(g, 8)));
         s.duration = s.dt * static_cast<double>(200 + pick(g, 1801));
-        out.push_back(std::move(s));
+        if (keep && !keep(s.name)) continue;
+        s.description = fmt::format("Monte-Carlo scenario {} of seed {}", n, seed);
+        out.push_back(s);
     }
     return out;
 }
@@ -104,15 +106,19 @@ std::vector<Scenario> wall_start_scenarios() {
     return out;
 }
 
-std::vector<StressCase> stress_suite(const std::vector<Scenario>& files, const MonteCarloSet& monte_carlo) {
-    std::vector<Scenario> wall_starts = wall_start_scenarios();
-    std::vector<Scenario> generated = monte_carlo_scenarios(monte_carlo.seed, monte_carlo.count);
+std::vector<StressCase> stress_suite(const std::vector<Scenario>& files, const MonteCarloSet& monte_carlo,
+                                     const StressCaseFilter& keep) {
+    const auto kept = [&](const char* row, const std::string& name) { return !keep || keep(row, name); };
+    std::vector<Scenario> generated = monte_carlo_scenarios(
+        monte_carlo.seed, monte_carlo.count, keep ? [&](const std::string& name) { return keep(kMonteCarloRow, name); }
+                                                  : std::function<bool(const std::string&)>{});
     std::vector<StressCase> cases;
-    cases.reserve(files.size() + wall_starts.size() + generated.size());
-    for (const Scenario& s : files) cases.push_back({s.name, s, false});
-    for (Scenario& s : wall_starts) cases.push_back({kWallStartsRow, std::move(s), true});
-    for (Scenario& s : generated)
-        cases.push_back({kMonteCarloRow, std::move(s), true});
+    for (const Scenario& s : files)
+        if (kept(s.name.c_str(), s.name)) cases.push_back({s.name, s, false});
+    for (Scenario& s : wall_start_scenarios())
+        if (kept(kWallStartsRow, s.name)) cases.push_back({kWallStartsRow, std::move(s), true});
+    cases.reserve(cases.size() + generated.size());
+    for (Scenario& s : generated) cases.push_back({kMonteCarloRow, std::move(s), true});
     return cases;
 }
 

@@ -97,10 +97,11 @@ std::optional<SweepPlan> plan_sweep(const SweepOptions& opt) {
     // A program silent for longer than its pair's whole budget has hung.
     ExternalOptions external = opt.external;
     if (opt.budget > 0) external.timeout_seconds = std::min(external.timeout_seconds, opt.budget);
+    if (opt.budget > 0) external.total_seconds = opt.budget;  // and one still talking at its end is stopped there
     auto extra = ExtraSimulators::from_options(external);
     if (!extra) return std::nullopt;
     auto scenarios = load_all({opt.file}, extra->command_line_names());
-    if (!scenarios) return std::nullopt;
+    if (!scenarios || !extra->admit_scenario_programs(*scenarios)) return std::nullopt;
     const Scenario& s = scenarios->front();
 
     std::vector<double> dts;
@@ -239,6 +240,7 @@ Command add_sweep_command(CLI::App& app) {
     add_no_timings_flag(*command, opt->no_timings);
     add_shard_option(*command, opt->shard);
     add_external_options(*command, opt->external);
+    add_scenario_programs_flag(*command, opt->external);
     set_exit_status_help(*command, {{kOk, "every (simulator, dt) pair ran or was skipped"},
                                    {kBadInput, "bad input or usage: nothing was run"},
                                    {kSimulatorFailed, "a pair failed, crashed or hung: the other rows are still written"}});

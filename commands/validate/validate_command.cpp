@@ -1,10 +1,12 @@
 // `bouncecheck validate`: scenario files checked, nothing run.
 #include "commands/command.h"
 
+#include "platform/printable_text.h"
 #include "scenarios/loader.h"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <string>
 #include <vector>
@@ -26,6 +28,11 @@ int command_validate(const ValidateOptions& opt) {
         try {
             const Scenario s = load_scenario(f, extra->command_line_names());
             fmt::print("{}: ok ({}, {}D)\n", f, s.name, s.dim);
+            // A file that runs programs says so: the line a reviewer of a
+            // pull request must see (`run --no-scenario-programs` refuses them).
+            for (const auto& [name, command] : s.externals)
+                fmt::print("{}: [external.{}] runs '{}' (bouncecheck run and sweep run it)\n", f, name,
+                           printable_text(fmt::format("{}", fmt::join(command, " "))));
         } catch (const ScenarioError& e) {
             for (const auto& d : e.diagnostics()) fmt::print(stderr, "{}\n", d.format());
             ok = false;
