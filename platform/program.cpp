@@ -217,8 +217,9 @@ void write_all(int fd, const void* data, std::size_t size) {
 
 // Kills and reaps every child the shepherd has, repeatedly (a dying child's
 // own children are re-parented here), until it has none. The children are
-// listed from /proc/self/task/<tid>/children; without it, from every
-// /proc/<pid>/stat whose parent is this process.
+// listed from /proc/self/task/<tid>/children (CONFIG_PROC_CHILDREN, in
+// Debian's kernels); a kernel without it gets the program's group killed and
+// the rest waited for, not killed.
 void sweep_descendants() {
     const pid_t self = ::getpid();
     char children_file[64] = "/proc/self/task/";
@@ -312,9 +313,13 @@ void close_all_but(const int (&keep)[4]) {
     const pid_t program = ::fork();  // every signal is still blocked, as the parent left it
     if (program == 0) {
         ::setpgid(0, 0);  // its own group, without the shepherd: killing it spares the sweep
-        ::dup2(plan.stdin_fd, STDIN_FILENO);
-        ::dup2(plan.stdout_fd, STDOUT_FILENO);
-        ::dup2(plan.stderr_fd, STDERR_FILENO);
+        // Above 2 first: a pipe end the harness got as descriptor 0, 1 or 2
+        // (it was started with one closed) would be overwritten by a dup2.
+        const int in = ::fcntl(plan.stdin_fd, F_DUPFD_CLOEXEC, 3), out = ::fcntl(plan.stdout_fd, F_DUPFD_CLOEXEC, 3),
+                  err = ::fcntl(plan.stderr_fd, F_DUPFD_CLOEXEC, 3);
+        ::dup2(in, STDIN_FILENO);
+        ::dup2(out, STDOUT_FILENO);
+        ::dup2(err, STDERR_FILENO);
         ::prctl(PR_SET_PDEATHSIG, 0);
         ShepherdReport failed;
         if (plan.cwd && ::chdir(plan.cwd) != 0) {
