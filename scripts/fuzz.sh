@@ -4,6 +4,9 @@
 #   fuzz_scenario_loader   the scenario loader (parse + validation, as `bouncecheck validate`)
 #   fuzz_output_manifest   an output folder's manifest (bouncecheck-manifest.tsv)
 #   fuzz_cbor_check        the check before merge decodes a shard file's CBOR, and the decoder after it
+#   fuzz_trajectory_reader an external program's streamed trajectory, or an imported --trajectory file
+#   fuzz_diff_report       diff's report reader (report.json), and the diff of what it loads
+#   fuzz_external_settings an external program's settings file
 #
 #   scripts/fuzz.sh [SECONDS]      # per target; default 300
 #
@@ -12,8 +15,11 @@
 # Each target's corpus grows in build-fuzz/corpus/<target>/ from run to run;
 # each run is seeded afresh: the loader with the bundled scenarios, the
 # broken ones under tests/data/invalid/ and fuzz/seeds/; the manifest with
-# fuzz/seeds-manifest/; the CBOR check with fuzz/seeds-cbor/. Fails on any finding: the input is kept in
-# build-fuzz/findings/<target>/ (reproduce: build-fuzz/fuzz/<target> FILE).
+# fuzz/seeds-manifest/; the CBOR check with fuzz/seeds-cbor/; the
+# trajectory reader with fuzz/seeds-trajectory/; the report reader with
+# fuzz/seeds-report/; the settings reader with fuzz/seeds-settings/. Fails on
+# any finding: the input is kept in build-fuzz/findings/<target>/
+# (reproduce: build-fuzz/fuzz/<target> FILE).
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -32,7 +38,8 @@ cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_C
   -DBOUNCECHECK_WITH_BULLET=OFF -DBOUNCECHECK_WITH_ODE=OFF -DBOUNCECHECK_WITH_BOX2D=OFF \
   -DBOUNCECHECK_WITH_MUJOCO=OFF -DBOUNCECHECK_WITH_CHIPMUNK=OFF -DBOUNCECHECK_WITH_SICONOS=OFF -DBOUNCECHECK_WITH_DART=OFF \
   > "$BUILD_DIR/configure.log" 2>&1 || { cat "$BUILD_DIR/configure.log"; exit 1; }
-cmake --build "$BUILD_DIR" --target fuzz_scenario_loader fuzz_output_manifest fuzz_cbor_check -j "$(nproc)"
+cmake --build "$BUILD_DIR" --target fuzz_scenario_loader fuzz_output_manifest fuzz_cbor_check \
+  fuzz_trajectory_reader fuzz_diff_report fuzz_external_settings -j "$(nproc)"
 
 # fuzz TARGET SEED_DIR [-dict=FILE]: one process on one core for SECONDS_TO_RUN.
 # -timeout turns a hang (an input taking over 10 s) into a finding;
@@ -68,6 +75,9 @@ for f in "$ROOT"/fuzz/seeds/*; do cp "$f" "$seeds/fuzz-$(basename "$f")"; done
 fuzz fuzz_scenario_loader "$seeds" -dict="$ROOT/fuzz/toml.dict"
 fuzz fuzz_output_manifest "$ROOT/fuzz/seeds-manifest"
 fuzz fuzz_cbor_check "$ROOT/fuzz/seeds-cbor"
+fuzz fuzz_trajectory_reader "$ROOT/fuzz/seeds-trajectory"
+fuzz fuzz_diff_report "$ROOT/fuzz/seeds-report"
+fuzz fuzz_external_settings "$ROOT/fuzz/seeds-settings"
 
 ((failed == 0)) || exit 1
 echo "fuzz: no finding"
