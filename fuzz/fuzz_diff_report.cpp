@@ -4,9 +4,8 @@
 // load_run_report must answer every input with a report or a refusal naming
 // the file, and throw nothing. A report it loads is then diffed against
 // itself and rendered as `diff` does: a report equals itself, so every
-// timing's ratio is 1 and no change may show but a numeric field that holds
-// no number (which counts as changed on any side). Anything else, or a
-// crash or a sanitizer report, is a finding.
+// timing's ratio is 1 and no change may show. Anything else, or a crash or
+// a sanitizer report, is a finding.
 #include "commands/diff/diff_pipeline.h"
 
 #include "reports/json_number.h"
@@ -55,13 +54,9 @@ private:
 };
 
 void check_self_diff(const bouncecheck::ReportDiff& d) {
-    for (const bouncecheck::DiffChange& c : d.changes) {
-        const bool untyped_number = c.section == bouncecheck::DiffSection::consequence && !c.tolerance_key.empty() &&
-                                    !c.delta && c.old_value == c.new_value;
-        if (!untyped_number)
-            finding("a report differs from itself", c.scenario + " / " + c.simulator + ": " + c.metric + ": " +
-                                                        c.old_value + " -> " + c.new_value);
-    }
+    for (const bouncecheck::DiffChange& c : d.changes)
+        finding("a report differs from itself", c.scenario + " / " + c.simulator + ": " + c.metric + ": " +
+                                                    c.old_value + " -> " + c.new_value);
     for (const bouncecheck::TimingChange& t : d.timings)
         if (t.ratio != 1 || t.regression) finding("a run time differs from itself", t.scenario + " / " + t.simulator);
 }

@@ -55,6 +55,19 @@ TEST(Diff, IdenticalReportsHaveNoChange) {
     EXPECT_FALSE(d.timings[0].regression);  // no --timing-ratio: reported, not judged
 }
 
+// A numeric field holding something else (a hand-edited report) is the same
+// value on both sides: no change. Found by fuzzing diff's reader (diffing a
+// report with itself showed "x -> x" and exited 1); a real change still shows.
+TEST(Diff, ANonNumberInANumericFieldIsUnchangedWhenEqual) {
+    json a = report(), b = report();
+    a["scenarios"][0]["simulators"][0]["apexes"][0]["height"] = "x";
+    b["scenarios"][0]["simulators"][0]["apexes"][0]["height"] = "x";
+    EXPECT_FALSE(diff(a, b).changed());
+    b["scenarios"][0]["simulators"][0]["apexes"][0]["height"] = 0.5;
+    ASSERT_EQ(diff(a, b).changes.size(), 1u);
+    EXPECT_EQ(diff(a, b).changes[0].metric, "apex[1].height");
+}
+
 TEST(Diff, AChangeCountsBeyondItsToleranceOnly) {
     const ReportDiff d = diff(report(0.5), report(0.5 + 1e-6));
     ASSERT_EQ(d.changes.size(), 1u);

@@ -75,7 +75,7 @@ public:
             return;
         }
         if (a.is_discarded() && b.is_discarded()) return;
-        if (a.is_null() && b.is_null()) return;
+        if (a == b) return;  // the same on both sides, number or not (a report diffed with itself shows nothing)
         push(DiffSection::consequence, kind, metric, a, b, key, std::nullopt);
     }
 
