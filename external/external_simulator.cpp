@@ -134,6 +134,15 @@ public:
             if (rows.stopped()) return out;
             return failed(out, with_stderr("malformed trajectory: " + reader.problem()->format()));
         }
+        // The program's own measure of its engine's steps: it cannot exceed
+        // the whole run as the harness timed it (start-up included). One
+        // that does is shown, not used: a timing slip costs no result.
+        if (const auto step = reader.step_seconds(); step && *step <= out.run_seconds) {
+            out.step_seconds = step;
+        } else if (step) {
+            out.settings.push_back({"step_seconds", fmt::format("{:g} s, ignored", *step),
+                                    fmt::format("the #end line's step time is more than the whole run's {:g} s", out.run_seconds)});
+        }
         try {
             const std::string text = settings.read();
             if (!text.empty())

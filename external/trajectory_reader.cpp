@@ -3,6 +3,7 @@
 #include "platform/printable_text.h"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <array>
 #include <cerrno>
@@ -12,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
 
 namespace bouncecheck {
 
@@ -56,6 +58,20 @@ bool TrajectoryReader::take_line(std::string_view text) {
         if (text != header_)
             problem_ = RowProblem{line_, "", fmt::format("expected the header '{}' ({}D scenario), got {}", header_,
                                                          dim_, quoted(text))};
+        return false;
+    }
+    if (ended_) {
+        problem_ = RowProblem{line_, "", "nothing may follow the #end line"};
+        return false;
+    }
+    if (text.starts_with("#end")) {
+        if (rows_ < expected_rows_) {
+            problem_ = RowProblem{line_, "", fmt::format("an #end line after {} rows; the scenario's clock takes {} "
+                                                         "(steps + 1)",
+                                                         rows_, expected_rows_)};
+            return false;
+        }
+        take_end_line(text);
         return false;
     }
     if (rows_ == expected_rows_) {
@@ -113,6 +129,34 @@ bool TrajectoryReader::take_line(std::string_view text) {
     }
     ++rows_;
     return true;
+}
+
+void TrajectoryReader::take_end_line(std::string_view text) {
+    ended_ = true;
+    const std::string_view rest = text.substr(4);
+    if (rest.empty()) return;  // "#end" alone: nothing reported
+    const auto refuse = [&](const char* field, std::string reason) { problem_ = RowProblem{line_, field, std::move(reason)}; };
+    if (rest.front() != ' ') return refuse("", fmt::format("expected '#end' or '#end {{JSON object}}', got {}", quoted(text)));
+    // A short flat object (the line is at most 4096 bytes): nesting is refused as it is read.
+    const nlohmann::json::parser_callback_t flat = [](int depth, nlohmann::json::parse_event_t, nlohmann::json&) {
+        if (depth > 4) throw std::runtime_error("nested");
+        return true;
+    };
+    nlohmann::json end;
+    try {
+        end = nlohmann::json::parse(rest.substr(1), flat, /*allow_exceptions=*/false);
+    } catch (const std::runtime_error&) {
+        return refuse("", "the #end line's JSON is nested deeper than 4 levels");
+    }
+    if (end.is_discarded() || !end.is_object())
+        return refuse("", fmt::format("the #end line holds no JSON object: {}", quoted(rest.substr(1))));
+    // Other keys are for later versions of the protocol: ignored.
+    if (const auto it = end.find("step_seconds"); it != end.end()) {
+        if (!it->is_number() || !std::isfinite(it->get<double>()) || it->get<double>() < 0)
+            return refuse("step_seconds", fmt::format("must be a finite number of seconds >= 0, got {}",
+                                                      bouncecheck::quoted(it->dump(-1, ' ', false, nlohmann::json::error_handler_t::replace))));
+        step_seconds_ = it->get<double>();
+    }
 }
 
 std::optional<std::string> read_trajectory_file(const std::string& file, const Scenario& s,

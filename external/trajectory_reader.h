@@ -81,6 +81,9 @@ public:
     }
 
     const std::optional<RowProblem>& problem() const { return problem_; }
+    // What the program measured of its own engine's steps, when its stream
+    // ends with `#end {"step_seconds": S}` (docs/external.md, Output).
+    std::optional<double> step_seconds() const { return step_seconds_; }
     std::int64_t rows() const { return rows_; }
     std::int64_t expected_rows() const { return expected_rows_; }
 
@@ -88,6 +91,8 @@ private:
     static constexpr std::size_t kMaxLineBytes = 4096;
     // One line: the header, or a row parsed into state_. True for a row.
     bool take_line(std::string_view text);
+    // The optional `#end` line after the last row.
+    void take_end_line(std::string_view text);
     bool fail_long_line();
     std::string fmt_too_few() const;
 
@@ -100,6 +105,8 @@ private:
     State state_;
     std::string partial_;  // a line split across pieces
     std::optional<RowProblem> problem_;
+    bool ended_ = false;  // the #end line was read: nothing may follow
+    std::optional<double> step_seconds_;
 };
 
 // Reads a whole trajectory file through a TrajectoryReader, `on_state`

@@ -241,6 +241,11 @@ void StreamRecorder::on_resolved_events(const ResolvedEvents& events) {
     resolved_ = std::move(r);
 }
 
+double SimulatorSummary::ns_per_step() const {
+    if (steps <= 0) return step_seconds ? 0.0 : run_seconds * 0.0;  // 0, or NaN when not measured
+    return step_seconds.value_or(run_seconds) * 1e9 / static_cast<double>(steps);
+}
+
 SimulatorSummary record_run(const Simulator& sim, const Scenario& s, StateSink* sink) {
     SimulatorSummary out;
     out.simulator = std::string(sim.name());
@@ -259,6 +264,7 @@ SimulatorSummary record_run(const Simulator& sim, const Scenario& s, StateSink* 
     recorder.finish(out);
     out.settings = std::move(outcome.settings);
     out.run_seconds = outcome.run_seconds + last_block_seconds;
+    out.step_seconds = outcome.step_seconds;
     if (outcome.status != RunStatus::ok) {
         out.status = outcome.status;
         out.reason = std::move(outcome.reason);

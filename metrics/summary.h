@@ -55,6 +55,12 @@ struct SimulatorSummary {
     std::optional<double> filled_from;
     std::int64_t fill_period = 0, fill_steps = 0;
     double run_seconds = 0;  // wall time of the run, recording included; NaN: not reported (--no-timings)
+    // The engine's own steps, where the simulator timed them (RunOutcome);
+    // the cost per step is then this over the steps, and the rest of
+    // run_seconds (start-up, streaming) is reported apart.
+    std::optional<double> step_seconds;
+    // What one step cost (ns): step_seconds, else run_seconds, over the steps; NaN without either.
+    double ns_per_step() const;
     std::string trajectory_file;  // relative to the output folder, if written
 };
 

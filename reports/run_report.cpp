@@ -190,8 +190,11 @@ nlohmann::json result_json(const SimulatorSummary& r, const Comparison* c, int d
                         {"position", vec_json(r.final_state.p, dim)},
                         {"velocity", vec_json(r.final_state.v, dim)}};
     j["run_seconds"] = json_number(r.run_seconds);
-    j["ns_per_step"] = r.steps > 0 ? json_number(r.run_seconds * 1e9 / static_cast<double>(r.steps))
-                                   : json_number(r.run_seconds * 0.0);  // 0, or null when not measured
+    j["ns_per_step"] = json_number(r.ns_per_step());
+    if (r.step_seconds) {  // the engine timed its own steps: what the run spent outside them, apart
+        j["step_seconds"] = json_number(*r.step_seconds);
+        j["outside_step_seconds"] = json_number(r.run_seconds - *r.step_seconds);
+    }
     if (!r.trajectory_file.empty()) j["trajectory"] = r.trajectory_file;
     if (!r.settings.empty()) {
         nlohmann::json settings = nlohmann::json::array();
@@ -266,8 +269,8 @@ Row make_row(const ScenarioRun& run, std::size_t i) {
         row.apexes += fmt::format("{}{:.4f}", k ? " " : "", r.apexes[k].height);
     if (r.rest_time) row.rest = fmt::format("{:.2f}", *r.rest_time);
     if (std::isfinite(r.run_seconds)) row.run_time = fmt::format("{:.3f}ms", r.run_seconds * 1e3);
-    if (r.steps > 0 && std::isfinite(r.run_seconds)) {
-        const double ns = r.run_seconds * 1e9 / static_cast<double>(r.steps);
+    if (r.steps > 0 && std::isfinite(r.ns_per_step())) {
+        const double ns = r.ns_per_step();
         row.ns_per_step = std::abs(ns) < 1e6 ? fmt::format("{:.1f}", ns) : fmt::format("{:.3g}", ns);
     }
     const Comparison* c = comparison_of(run, i);

@@ -27,11 +27,11 @@ std::string table_number(const std::optional<double>& v, const char* spec) {
 }  // namespace
 
 std::string sweep_csv(const SweepResult& r) {
-    std::string out = "engine,dt,status,error,bounce_error,ns_per_step,sec_per_sim_sec,steps\n";
+    std::string out = "engine,dt,status,error,bounce_error,ns_per_step,sec_per_sim_sec,steps,outside_step_seconds\n";
     for (const SweepRow& row : r.rows)
-        out += fmt::format("{},{:.17g},{},{},{},{},{},{}\n", row.engine, row.dt, to_string(row.status),
+        out += fmt::format("{},{:.17g},{},{},{},{},{},{},{}\n", row.engine, row.dt, to_string(row.status),
                            csv_number(row.error), csv_number(row.bounce_error), csv_number(row.ns_per_step),
-                           csv_number(row.sec_per_sim_sec), csv_number(row.steps));
+                           csv_number(row.sec_per_sim_sec), csv_number(row.steps), csv_number(row.outside_step_seconds));
     return out;
 }
 
@@ -40,6 +40,7 @@ void leave_out_timings(SweepResult& r) {
         row.ns_per_step.reset();
         row.sec_per_sim_sec.reset();
         row.min_seconds.reset();
+        row.outside_step_seconds.reset();
     }
 }
 
@@ -75,6 +76,7 @@ nlohmann::json sweep_json(const Scenario& s, const SweepResult& r, const nlohman
                          {"sec_per_sim_sec", json_number(row.sec_per_sim_sec)},
                          {"steps", json_number(row.steps)},
                          {"min_seconds", json_number(row.min_seconds)},
+                         {"outside_step_seconds", json_number(row.outside_step_seconds)},
                          {"pareto", static_cast<bool>(front[i])}};
         if (!row.reason.empty()) j["reason"] = row.reason;
         rows.push_back(std::move(j));

@@ -30,7 +30,10 @@ struct SweepRow {
     std::optional<double> ns_per_step;   // min over the timed runs
     std::optional<double> sec_per_sim_sec;
     std::optional<std::int64_t> steps;
-    std::optional<double> min_seconds;   // the fastest timed run
+    std::optional<double> min_seconds;   // the fastest timed run (its engine's steps, where it timed them)
+    // Where the simulator timed its own steps: the fastest timed run's wall
+    // time outside them (an external's start-up, reading and printing).
+    std::optional<double> outside_step_seconds;
 };
 
 struct SweepOrder {

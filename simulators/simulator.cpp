@@ -38,7 +38,7 @@ UnrecordedRun Simulator::run_unrecorded(const Scenario& s) const {
     FinalStateSink sink;
     const RunOutcome outcome = run(s, sink);
     return UnrecordedRun{outcome.status, outcome.reason, sink.states > 0 ? sink.states - 1 : 0, sink.last,
-                         outcome.run_seconds};
+                         outcome.run_seconds, outcome.step_seconds};
 }
 
 }  // namespace bouncecheck

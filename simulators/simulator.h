@@ -60,6 +60,9 @@ struct RunOutcome {
     std::string reason;                // why
     std::vector<Setting> settings;     // every setting that changes the answer
     double run_seconds = 0;            // wall time of the run, streaming included
+    // The engine's own steps, as the simulator timed them, where it says (an
+    // external program's #end line): its cost without start-up or streaming.
+    std::optional<double> step_seconds;
 };
 
 // A run that streamed nothing, for timing: where it ended and what it cost.
@@ -69,6 +72,7 @@ struct UnrecordedRun {
     std::int64_t steps = 0;
     State final_state;
     double run_seconds = 0;
+    std::optional<double> step_seconds;  // as RunOutcome's
 };
 
 class Simulator {

@@ -161,6 +161,54 @@ TEST(TrajectoryReader, NamesTheLineFieldAndReason) {
     }
 }
 
+// The optional #end line after the last row (docs/external.md, Output):
+// the program's own measure of its engine's steps; keys of later versions
+// ignored; anything malformed, early or followed by more, refused.
+TEST(TrajectoryReader, TheEndLineCarriesTheProgramsStepTime) {
+    Scenario s = seed("seed-3d");
+    s.duration = 2 * s.dt;
+    const std::string rows = "t,x,y,z,vx,vy,vz\n0,0.5,0.9,0.5,0,0,0\n0.03,0.5,0.9,0.5,0,0,0\n0.06,0.5,0.9,0.5,0,0,0\n";
+    const auto step_seconds = [&](const std::string& text, std::optional<RowProblem>* problem) {
+        TrajectoryReader reader(s);
+        const auto keep = [](const State&) { return true; };
+        for (std::size_t at = 0; at < text.size(); at += 5)
+            if (!reader.feed(std::string_view(text).substr(at, 5), keep)) break;
+        if (!reader.problem()) reader.finish(keep);
+        *problem = reader.problem();
+        return reader.step_seconds();
+    };
+    std::optional<RowProblem> problem;
+    EXPECT_FALSE(step_seconds(rows + "#end\n", &problem));
+    EXPECT_FALSE(problem) << problem->format();
+    EXPECT_EQ(step_seconds(rows + "#end {\"step_seconds\": 0.25, \"later\": {\"a\": 1}}\r\n", &problem), 0.25);
+    EXPECT_FALSE(problem) << problem->format();
+    EXPECT_FALSE(step_seconds(rows, &problem));  // still optional
+    EXPECT_FALSE(problem);
+
+    const struct {
+        std::string text;
+        std::int64_t line;
+        std::string field, reason;
+    } cases[] = {
+        {rows + "#end {\"step_seconds\": -1}\n", 5, "step_seconds", "must be a finite number of seconds >= 0, got '-1'"},
+        {rows + "#end {\"step_seconds\": \"1\"}\n", 5, "step_seconds", "got '\"1\"'"},
+        {rows + "#end {\"step_seconds\": 1e999}\n", 5, "", "the #end line holds no JSON object"},
+        {rows + "#end [1]\n", 5, "", "the #end line holds no JSON object: '[1]'"},
+        {rows + "#end {\"a\": [[[[[1]]]]]}\n", 5, "", "nested deeper than 4 levels"},
+        {rows + "#ending\n", 5, "", "expected '#end' or '#end {JSON object}', got '#ending'"},
+        {rows + "#end\n0.09,0.5,0.9,0.5,0,0,0\n", 6, "", "nothing may follow the #end line"},
+        {rows + "#end\n#end\n", 6, "", "nothing may follow the #end line"},
+        {"t,x,y,z,vx,vy,vz\n0,0.5,0.9,0.5,0,0,0\n#end\n", 3, "", "an #end line after 1 rows; the scenario's clock takes 3"},
+    };
+    for (const auto& c : cases) {
+        step_seconds(c.text, &problem);
+        ASSERT_TRUE(problem) << c.text;
+        EXPECT_EQ(problem->line, c.line) << c.text;
+        EXPECT_EQ(problem->field, c.field) << c.text;
+        EXPECT_NE(problem->reason.find(c.reason), std::string::npos) << problem->reason;
+    }
+}
+
 // ------------------------------------------------ declaring one in a scenario file
 
 class ExternalDeclarations : public test::TestDirectory {
@@ -271,6 +319,34 @@ TEST(ExternalSimulator, ReplayingTheReferenceShowsNoDivergenceAndTheSettings) {
     EXPECT_EQ(r.settings[0].key, "protocol");
     EXPECT_EQ(r.settings[1].value, "replay 1");
     EXPECT_EQ(r.settings[2].value, "2");
+}
+
+// A program that times its own steps is charged for them: ns_per_step is
+// its step time over the steps, and the rest of the run is reported apart.
+// A step time over the whole run's is shown, not used.
+TEST(ExternalSimulator, AReportedStepTimeIsTheCostPerStep) {
+    const Scenario s = seed("seed-3d");
+    const auto timed = replay("timed", "end"), slow = replay("slow", "end-slow"), early = replay("early", "end-early");
+    const ScenarioRun run = run_beside_reference(s, {timed.get(), slow.get(), early.get()});
+    const SimulatorSummary& r = run.results.at(1);
+    ASSERT_EQ(r.status, RunStatus::ok) << r.reason;
+    ASSERT_TRUE(r.step_seconds);
+    EXPECT_EQ(*r.step_seconds, 1e-6);
+    EXPECT_DOUBLE_EQ(r.ns_per_step(), 1e-6 * 1e9 / static_cast<double>(r.steps));
+    EXPECT_GT(r.run_seconds, *r.step_seconds);
+    EXPECT_EQ(run.comparisons[1]->vs_reference.trajectory.max, 0.0);  // the #end line changes no row
+
+    const SimulatorSummary& lying = run.results.at(2);
+    ASSERT_EQ(lying.status, RunStatus::ok) << lying.reason;
+    EXPECT_FALSE(lying.step_seconds);
+    EXPECT_DOUBLE_EQ(lying.ns_per_step(), lying.run_seconds * 1e9 / static_cast<double>(lying.steps));
+    ASSERT_FALSE(lying.settings.empty());
+    EXPECT_EQ(lying.settings.back().key, "step_seconds");
+    EXPECT_EQ(lying.settings.back().value, "1000 s, ignored");
+
+    EXPECT_EQ(run.results.at(3).status, RunStatus::failed);
+    EXPECT_NE(run.results.at(3).reason.find("line 11: an #end line after 9 rows"), std::string::npos)
+        << run.results.at(3).reason;
 }
 
 TEST(ExternalSimulator, RunsInTheScenarioFolderWithItsInput) {
@@ -465,6 +541,11 @@ TEST(ExternalExamples, ThePythonSimulatorRunsInRunSweepAndStress) {
                   0.5 * sc["simulators"][0]["comparison"]["vs_exact"]["trajectory"]["rms"].get<double>());
         const std::string name = sc["scenario"]["name"];
         EXPECT_TRUE(fs::exists(out / "run" / name / "semi.csv"));
+        // Its #end line: charged for its steps, its start-up reported apart.
+        ASSERT_TRUE(semi["step_seconds"].is_number()) << semi.dump();
+        EXPECT_GT(semi["outside_step_seconds"].get<double>(), 0.0);
+        EXPECT_DOUBLE_EQ(semi["ns_per_step"].get<double>(),
+                         semi["step_seconds"].get<double>() * 1e9 / semi["steps"].get<double>());
     }
     const std::string md = slurp(out / "run" / "report.md");
     EXPECT_NE(md.find("- semi: external: python3"), std::string::npos);
@@ -479,6 +560,9 @@ TEST(ExternalExamples, ThePythonSimulatorRunsInRunSweepAndStress) {
         if (row["engine"] == "semi") {
             ++semi_rows;
             EXPECT_EQ(row["status"], "ok") << row.dump();
+            EXPECT_GT(row["outside_step_seconds"].get<double>(), 0.0) << row.dump();
+        } else {
+            EXPECT_TRUE(row["outside_step_seconds"].is_null()) << row.dump();  // built in: no start-up to set apart
         }
     EXPECT_EQ(semi_rows, 2);
 

@@ -232,7 +232,7 @@ TEST(SweepRows, SkippedPairIsARowWithItsReason) {
     EXPECT_FALSE(r.orders[1].order);
     // The CSV keeps the row with empty values; the JSON gives the reason.
     const std::string csv = sweep_csv(r);
-    EXPECT_NE(csv.find("box2d,0.029999999999999999,skipped,,,,,\n"), std::string::npos) << csv;
+    EXPECT_NE(csv.find("box2d,0.029999999999999999,skipped,,,,,,\n"), std::string::npos) << csv;
     const auto json = sweep_json(s, r, nlohmann::json::object());
     EXPECT_EQ(json["rows"][2]["status"], "skipped");
     EXPECT_FALSE(json["rows"][2]["reason"].get<std::string>().empty());
@@ -324,7 +324,7 @@ TEST(SweepCli, WritesCsvAndJson) {
     std::ifstream csv(out / "sweep.csv");
     std::string line;
     ASSERT_TRUE(std::getline(csv, line));
-    EXPECT_EQ(line, "engine,dt,status,error,bounce_error,ns_per_step,sec_per_sim_sec,steps");
+    EXPECT_EQ(line, "engine,dt,status,error,bounce_error,ns_per_step,sec_per_sim_sec,steps,outside_step_seconds");
     int rows = 0;
     while (std::getline(csv, line)) {
         EXPECT_NE(line.find(",ok,"), std::string::npos) << line;

@@ -130,7 +130,10 @@ int command_run(RunOptions opt) {
         // Wall-clock figures are the only outputs that differ between runs of
         // the same input: without them every file is a function of the input.
         if (opt.no_timings)
-            for (SimulatorSummary& r : run.results) r.run_seconds = std::nan("");
+            for (SimulatorSummary& r : run.results) {
+                r.run_seconds = std::nan("");
+                r.step_seconds.reset();
+            }
         report.scenarios.push_back(std::move(run));
     }
 

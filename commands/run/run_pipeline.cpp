@@ -60,7 +60,7 @@ std::string encode(const ComparedRun& o) {
         {"energy", r.energy_max_rise}, {"rest", wire::optional(r.rest_time)}, {"final_t", r.final_state.t},
         {"filled", {wire::optional(r.filled_from), r.fill_period, r.fill_steps}},
         {"final", encode(std::vector<Vec3>{r.final_state.p, r.final_state.v})}, {"settings", settings},
-        {"seconds", r.run_seconds}, {"trajectory", r.trajectory_file},
+        {"seconds", r.run_seconds}, {"step_seconds", wire::optional(r.step_seconds)}, {"trajectory", r.trajectory_file},
         {"vs_reference", encode(o.vs_reference)}, {"vs_exact", encode(o.vs_exact)}, {"plot", nullptr},
     };
     if (o.plot) {
@@ -97,6 +97,7 @@ ComparedRun decode(const std::string& bytes) {
     for (const json& st : j["settings"])
         r.settings.push_back({st[0].get<std::string>(), st[1].get<std::string>(), st[2].get<std::string>()});
     r.run_seconds = j["seconds"].get<double>();
+    r.step_seconds = wire::optional_from<double>(j["step_seconds"]);
     r.trajectory_file = j["trajectory"].get<std::string>();
     o.vs_reference = decode_divergence(j["vs_reference"]);
     o.vs_exact = decode_divergence(j["vs_exact"]);

@@ -21,7 +21,9 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <charconv>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -105,16 +107,25 @@ public:
             if (!write(at.next())) return;
     }
 
-    // Writes what is left; throws if stdout failed.
-    void finish() {
+    // Writes what is left and the #end line with the steps' time; throws if stdout failed.
+    void end(double step_seconds) {
+        buffer_ += fmt::format("#end {{\"step_seconds\": {}}}\n", step_seconds);
         flush();
         if (std::fflush(stdout) != 0) throw std::runtime_error("cannot write to standard output");
         if (!failure_.empty()) throw std::runtime_error(failure_);
     }
     std::int64_t rows() const { return rows_; }
+    // Time spent here, printing: the run's time less this is its steps'.
+    double seconds_writing() const { return std::chrono::duration<double>(writing_).count(); }
 
 private:
     bool write(const State& s) {
+        const auto started = std::chrono::steady_clock::now();
+        const bool more = write_row(s);
+        writing_ += std::chrono::steady_clock::now() - started;
+        return more;
+    }
+    bool write_row(const State& s) {
         if (!failure_.empty()) return false;
         for (int i = 0; i < dim_; ++i) {
             if (!std::isfinite(s.p[i]) || !std::isfinite(s.v[i])) {  // the protocol takes finite numbers only
@@ -146,6 +157,7 @@ private:
     std::string buffer_;
     std::int64_t rows_ = 0;
     std::string failure_;
+    std::chrono::steady_clock::duration writing_{};
 };
 
 // The settings file: an array of {key, value, why} (docs/external.md, Settings).
@@ -178,13 +190,17 @@ int run(const std::string& engine) {
     if (const auto why = sim->cannot_run(s)) throw std::runtime_error(fmt::format("{} cannot run this scenario: {}", engine, *why));
 
     CsvToStdout sink(s.dim);
+    const auto started = std::chrono::steady_clock::now();
     const RunOutcome outcome = sim->run(s, sink);
-    sink.finish();
+    const double run_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     if (outcome.status != RunStatus::ok)
         throw std::runtime_error(fmt::format("{} {}: {}", engine, to_string(outcome.status), outcome.reason));
     const std::int64_t steps = in.at("steps").get<std::int64_t>();
     if (sink.rows() != steps + 1)
         throw std::runtime_error(fmt::format("{} rows written, steps + 1 = {} expected", sink.rows(), steps + 1));
+    // The engine's steps alone (the run less its printing), so that the
+    // harness charges the engine, not this wrapper's start-up or its rows.
+    sink.end(std::max(0.0, run_seconds - sink.seconds_writing()));
 
     if (const auto path = in.find("settings_file"); path != in.end() && path->is_string())
         write_settings(path->get<std::string>(), engine, outcome.settings);

@@ -20,6 +20,9 @@ case $mode in
   many) cat "$file"; tail -n 1 "$file" ;;
   hang) head -n 10 "$file"; sleep 60 ;;
   orphan) sleep 60 & echo $! > "$3"; head -n 10 "$file"; sleep 60 ;;
+  end) cat "$file"; echo '#end {"step_seconds": 1e-6, "from_a_later_version": [1, 2]}' ;;
+  end-slow) cat "$file"; echo '#end {"step_seconds": 1000}' ;;
+  end-early) head -n 10 "$file"; echo '#end' ;;
   settings-ok) cat "$file"; printf '[{"key":"engine","value":"replay 1","why":"a test"},{"key":"n","value":2}]' > "$settings" ;;
   settings-bad) cat "$file"; printf '{"engine":1}' > "$settings" ;;
   *) echo "replay.sh: unknown mode $mode" >&2; exit 2 ;;
