@@ -11,6 +11,7 @@
 #include "scenarios/loader.h"
 #include "simulators/document_clock.h"
 #include "tests/support/cli.h"
+#include "tests/support/processes.h"
 #include "tests/support/test_directory.h"
 
 #include <gtest/gtest.h>
@@ -34,6 +35,7 @@ namespace {
 
 using test::bouncecheck;
 using test::CliResult;
+using test::dead;
 using test::slurp;
 
 const std::string kData = BOUNCECHECK_TEST_DATA;
@@ -408,18 +410,6 @@ TEST(ExternalSimulator, EachBrokenProgramCostsOnlyItsOwnRow) {
     // Every program was reaped: this process has no child left, not even a zombie.
     EXPECT_EQ(::waitpid(-1, nullptr, WNOHANG), -1);
     EXPECT_EQ(errno, ECHILD);
-}
-
-// Whether `pid` is gone (or a zombie, killed, until init reaps it: it is not
-// our child), waiting up to two seconds for it.
-bool dead(pid_t pid) {
-    for (int i = 0; i < 100; ++i) {
-        std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
-        std::string line;
-        if (!std::getline(stat, line) || line.substr(line.rfind(')') + 2, 1) == "Z") return true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    return false;
 }
 
 // A grandchild the program leaves running dies with it when it times out.

@@ -5,6 +5,7 @@
 // ends; no settings file left in the temporary folder after an interrupt or
 // a watchdog's kill; no half-written output after a failed rename.
 #include "tests/support/cli.h"
+#include "tests/support/processes.h"
 #include "tests/support/test_directory.h"
 
 #include <gtest/gtest.h>
@@ -30,22 +31,11 @@ namespace {
 
 using test::bouncecheck;
 using test::CliResult;
+using test::dead;
 using test::slurp;
 
 const std::string kScenarios = BOUNCECHECK_SCENARIO_DIR;
 const std::string kPythonExample = BOUNCECHECK_EXAMPLES "/semi_implicit_euler.py";
-
-// Whether `pid` is gone (or a zombie: killed, not yet reaped by whoever
-// holds it now), waiting up to two seconds.
-bool dead(pid_t pid) {
-    for (int i = 0; i < 100; ++i) {
-        std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
-        std::string line;
-        if (!std::getline(stat, line) || line.substr(line.rfind(')') + 2, 1) == "Z") return true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    return false;
-}
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
