@@ -4,6 +4,7 @@
 #include "commands/command.h"
 #include "platform/atomic_file.h"
 #include "platform/did_you_mean.h"
+#include "platform/printable_text.h"
 #include "reports/provenance.h"
 
 #include <CLI/CLI.hpp>
@@ -109,7 +110,7 @@ int main(int argc, char** argv) {
         for (const Command& command : commands)
             if (*command.app) return command.run();
     } catch (const std::exception& e) {
-        fmt::print(stderr, "error: {}\n", e.what());
+        fmt::print(stderr, "error: {}\n", error_text(e));
         return kSimulatorFailed;
     }
     return kBadInput;

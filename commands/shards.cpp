@@ -3,7 +3,9 @@
 #include "platform/atomic_file.h"
 #include "platform/bounded_read.h"
 #include "platform/cbor_check.h"
+#include "commands/wire.h"
 #include "platform/digest.h"
+#include "platform/printable_text.h"
 #include "reports/provenance.h"
 #include "reports/json_number.h"
 
@@ -121,6 +123,10 @@ std::optional<ShardFile> read_shard_file(const fs::path& dir) {
         for (const nlohmann::json& r : j.at("results")) {
             const auto& bytes = r.get_binary();
             file.results.emplace_back(bytes.begin(), bytes.end());
+            // A result is CBOR of its own, decoded later: its nesting is
+            // checked here, where the file can still be named.
+            if (auto problem = cbor_problem(file.results.back(), wire::kMaxResultDepth))
+                throw std::runtime_error(fmt::format("result {}: {}", file.results.size(), *problem));
         }
         if (file.slots.size() != file.results.size())
             throw std::runtime_error(fmt::format("{} slots for {} results", file.slots.size(), file.results.size()));
@@ -134,7 +140,7 @@ std::optional<ShardFile> read_shard_file(const fs::path& dir) {
             throw std::runtime_error("its digest does not match its contents: the file changed after it was written");
         return file;
     } catch (const std::exception& e) {
-        fmt::print(stderr, "error: {}: unreadable: {}\n", path.string(), e.what());
+        fmt::print(stderr, "error: {}: unreadable: {}\n", printable_text(path.string()), error_text(e));
         return std::nullopt;
     }
 }

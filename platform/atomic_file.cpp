@@ -108,6 +108,13 @@ void AtomicFile::commit() {
     slot_ = -1;
 }
 
+void OutputWrites::finish() const {
+    if (failures_.empty()) return;
+    std::string all;
+    for (const std::string& failure : failures_) all += (all.empty() ? "" : "; ") + failure;
+    throw std::runtime_error(failures_.size() == 1 ? all : fmt::format("{} outputs not written: {}", failures_.size(), all));
+}
+
 void write_file_atomically(const std::filesystem::path& target, std::string_view contents) {
     write_file_atomically(target, {contents});
 }

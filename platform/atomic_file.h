@@ -4,8 +4,11 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <exception>
 #include <initializer_list>
+#include <string>
 #include <string_view>
+#include <vector>
 
 namespace bouncecheck {
 
@@ -42,6 +45,25 @@ public:
 
 private:
     int slot_ = -1;
+};
+
+// A set of outputs written so that one that cannot be (a folder in its
+// place) costs only itself: each write is attempted, then finish() throws
+// one std::runtime_error naming every failure.
+class OutputWrites {
+public:
+    template <class Write>
+    void attempt(Write&& write) {
+        try {
+            write();
+        } catch (const std::exception& e) {
+            failures_.emplace_back(e.what());
+        }
+    }
+    void finish() const;
+
+private:
+    std::vector<std::string> failures_;
 };
 
 // Writes `contents` to `target` atomically.

@@ -1,5 +1,7 @@
 #include "platform/output_manifest.h"
 
+#include "platform/printable_text.h"
+
 #include "platform/atomic_file.h"
 #include "platform/bounded_read.h"
 #include "platform/digest.h"
@@ -225,17 +227,16 @@ std::optional<OutputFolder> OutputFolder::open(const fs::path& dir, std::string*
         else fmt::print(stderr, "error: {}\n", why);
         return std::nullopt;
     };
-    try {
-        fs::create_directories(dir);
-    } catch (const std::exception& e) {
-        return refuse(fmt::format("--out: cannot create {}: {}", dir.string(), e.what()));
-    }
+    const std::string shown = printable_text(dir.string());
+    if (dir.empty()) return refuse("--out: the folder's name is empty");
     std::error_code ec;
-    if (!fs::is_directory(dir, ec)) return refuse(fmt::format("--out: {} is not a folder", dir.string()));
+    fs::create_directories(dir, ec);  // the system's reason alone, not the library's wrapping of it
+    if (ec) return refuse(fmt::format("--out: cannot create {}: {}", shown, ec.message()));
+    if (!fs::is_directory(dir, ec)) return refuse(fmt::format("--out: {} is not a folder", shown));
     // Found now, not after every simulation has run.
     const fs::path probe = dir / fmt::format(".bouncecheck-write-check.{}", ::getpid());
     const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
-    if (fd < 0) return refuse(fmt::format("--out: cannot write in {}: {}", dir.string(), std::strerror(errno)));
+    if (fd < 0) return refuse(fmt::format("--out: cannot write in {}: {}", shown, std::strerror(errno)));
     ::close(fd);
     ::unlink(probe.c_str());
     auto previous = read_manifest(dir);

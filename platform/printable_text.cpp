@@ -51,4 +51,13 @@ std::string printable_text(std::string_view text, bool keep_newlines) {
     return out;
 }
 
+std::string error_text(const std::exception& e) {
+    std::string_view what = e.what();
+    if (what.starts_with("[json.exception.")) {
+        const auto end = what.find("] ");
+        if (end != std::string_view::npos) what.remove_prefix(end + 2);
+    }
+    return printable_text(what);
+}
+
 }  // namespace bouncecheck

@@ -5,6 +5,7 @@
 // so none clears a terminal or breaks a Markdown table.
 #pragma once
 
+#include <exception>
 #include <string>
 #include <string_view>
 
@@ -15,5 +16,10 @@ namespace bouncecheck {
 // points) written as \xNN, tab included; a line break too, unless
 // `keep_newlines`.
 std::string printable_text(std::string_view text, bool keep_newlines = false);
+
+// An exception's message as a user should read it: printable, and a JSON
+// library error without its "[json.exception.parse_error.101] " prefix
+// (what follows says where and why).
+std::string error_text(const std::exception& e);
 
 }  // namespace bouncecheck

@@ -884,16 +884,18 @@ std::string bounces_csv(const RunReport& report) {
 
 WrittenFiles write_reports(const RunReport& report, const std::filesystem::path& out_dir, const RunVerdict* verdict) {
     WrittenFiles written = {"report.json", "report.md", "junit.xml", "bounces.csv"};
-    write_file_atomically(out_dir / "report.json", json_text(to_json(report), 2) + "\n");
-    write_file_atomically(out_dir / "report.md", to_markdown(report, verdict));
-    write_file_atomically(out_dir / "junit.xml", to_junit(report));
-    write_file_atomically(out_dir / "bounces.csv", bounces_csv(report));
+    OutputWrites writes;  // one report that cannot be written costs only itself
+    writes.attempt([&] { write_file_atomically(out_dir / "report.json", json_text(to_json(report), 2) + "\n"); });
+    writes.attempt([&] { write_file_atomically(out_dir / "report.md", to_markdown(report, verdict)); });
+    writes.attempt([&] { write_file_atomically(out_dir / "junit.xml", to_junit(report)); });
+    writes.attempt([&] { write_file_atomically(out_dir / "bounces.csv", bounces_csv(report)); });
     const bool plotted = std::any_of(report.scenarios.begin(), report.scenarios.end(),
                                      [](const ScenarioRun& run) { return !run.plots.empty(); });
     if (plotted) {
-        write_page(out_dir / "report.html", to_html(report));
+        writes.attempt([&] { write_page(out_dir / "report.html", to_html(report)); });
         written.push_back("report.html");
     }
+    writes.finish();
     // The trajectories the run wrote as it streamed (--trajectories) are its output too.
     for (const ScenarioRun& run : report.scenarios)
         for (const SimulatorSummary& r : run.results)

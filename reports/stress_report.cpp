@@ -326,8 +326,9 @@ void write_stress_json(const std::filesystem::path& target, const StressReport& 
 WrittenFiles write_stress(const StressReport& r, const std::vector<StressCase>& cases, const nlohmann::json& parameters,
                   const std::filesystem::path& out_dir, const nlohmann::json& provenance) {
     WrittenFiles written = {"stress.csv", "stress.json"};
-    write_file_atomically(out_dir / "stress.csv", stress_csv(r));
-    write_stress_json(out_dir / "stress.json", r, cases, parameters, provenance);
+    OutputWrites writes;  // one file that cannot be written costs only itself
+    writes.attempt([&] { write_file_atomically(out_dir / "stress.csv", stress_csv(r)); });
+    writes.attempt([&] { write_stress_json(out_dir / "stress.json", r, cases, parameters, provenance); });
     // A generated scenario that broke something, as a file `bouncecheck run` reproduces.
     std::map<std::string, const StressCase*> generated;
     for (const StressCase& c : cases)
@@ -337,11 +338,14 @@ WrittenFiles write_stress(const StressReport& r, const std::vector<StressCase>& 
         if (res.outcome == StressOutcome::pass || res.outcome == StressOutcome::skipped) continue;
         const auto c = generated.find(res.scenario);
         if (c == generated.end() || !scenarios_written.insert(res.scenario).second) continue;
-        std::filesystem::create_directories(out_dir / kStressScenarioDir);
         const std::string file = std::string(kStressScenarioDir) + "/" + res.scenario + ".toml";
-        write_file_atomically(out_dir / file, scenario_toml(c->second->scenario));
+        writes.attempt([&] {
+            std::filesystem::create_directories(out_dir / kStressScenarioDir);
+            write_file_atomically(out_dir / file, scenario_toml(c->second->scenario));
+        });
         written.push_back(file);
     }
+    writes.finish();
     return written;
 }
 

@@ -144,10 +144,12 @@ std::string format_sweep(const Scenario& s, const SweepResult& r) {
 
 WrittenFiles write_sweep(const Scenario& s, const SweepResult& r, const nlohmann::json& parameters,
                  const std::filesystem::path& out_dir, const nlohmann::json& provenance) {
-    write_file_atomically(out_dir / "sweep.csv", sweep_csv(r));
+    OutputWrites writes;  // one file that cannot be written costs only itself
+    writes.attempt([&] { write_file_atomically(out_dir / "sweep.csv", sweep_csv(r)); });
     const nlohmann::json json = sweep_json(s, r, parameters, provenance);
-    write_file_atomically(out_dir / "sweep.json", json_text(json, 2) + "\n");
-    write_page(out_dir / "sweep.html", sweep_html(json));
+    writes.attempt([&] { write_file_atomically(out_dir / "sweep.json", json_text(json, 2) + "\n"); });
+    writes.attempt([&] { write_page(out_dir / "sweep.html", sweep_html(json)); });
+    writes.finish();
     return {"sweep.csv", "sweep.json", "sweep.html"};
 }
 

@@ -241,7 +241,11 @@ TEST_F(DiffInput, BadInputIsRefusedWithTheReason) {
     fs::resize_file(huge, kMaxRunReportBytes + 1);
     CliResult big = bouncecheck("diff " + huge.string() + " " + good.string() + " --out " + (dir_ / "o").string());
     EXPECT_EQ(big.status, 2) << big.output;
-    EXPECT_NE(big.output.find("over the limit of 1073741824 for a report"), std::string::npos) << big.output;
+    EXPECT_NE(big.output.find("over the limit of 67108864 for a report"), std::string::npos) << big.output;
+    // A library's message reaches the user without its "[json.exception...]" prefix.
+    const CliResult overflow = bouncecheck("diff " + (dir_ / "huge-number.json").string() + " " + good.string());
+    EXPECT_EQ(overflow.output.find("[json.exception"), std::string::npos) << overflow.output;
+    EXPECT_NE(overflow.output.find("number overflow"), std::string::npos) << overflow.output;
     // Provenance of the wrong shape reads as unknown; it never throws a library's message.
     json odd = report();
     odd["provenance"] = {{"build", 3}};
@@ -261,6 +265,27 @@ TEST_F(DiffInput, BadInputIsRefusedWithTheReason) {
                                     (dir_ / "missing.json").string() + " --out " + (dir_ / "o").string());
     EXPECT_EQ(r.status, 2) << r.output;
     EXPECT_FALSE(fs::exists(dir_ / "o" / "report.json")) << "a bad baseline must stop the run before it starts";
+}
+
+// The hostile audit's finding 16: a report is outside bytes; its names,
+// reasons and settings reach the terminal and diff.md made printable.
+TEST_F(DiffInput, ATerminalEscapeInAReportIsShownNotObeyed) {
+    json a = report(), b = report(0.6);
+    for (json* j : {&a, &b}) {
+        (*j)["scenarios"][0]["scenario"]["name"] = "\x1b[2Jevil\x07";
+        (*j)["scenarios"][0]["simulators"][0]["simulator"] = "sim\xc2\x9b" "31m";  // C1 CSI
+    }
+    b["scenarios"][0]["simulators"][0]["status"] = "failed\x1b[2J";
+    const fs::path old_file = write_file("a.json", a.dump()), new_file = write_file("b.json", b.dump());
+    const CliResult r = bouncecheck("diff " + old_file.string() + " " + new_file.string() + " --out " + (dir_ / "o").string());
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_EQ(r.output.find('\x1b'), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find('\x07'), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("\xc2\x9b"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("\\x1b[2Jevil\\x07"), std::string::npos) << r.output;
+    const std::string md = slurp(dir_ / "o" / "diff.md");
+    EXPECT_EQ(md.find('\x1b'), std::string::npos);
+    EXPECT_NE(md.find("\\x1b[2Jevil"), std::string::npos) << md;
 }
 
 // The "done when": two runs of one build and input diff to nothing;

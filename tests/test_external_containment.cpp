@@ -187,16 +187,31 @@ TEST_F(ExternalContainment, AStoppedStressRunLeavesNoSettingsFile) {
 }
 
 // Finding 14: an output that cannot be renamed into place (a folder holds
-// its name) is a clear error naming it, and leaves no temporary file.
+// its name) is a clear error naming it, leaves no temporary file, and costs
+// only itself: every other report is still written.
 TEST_F(ExternalContainment, AFailedRenameNamesTheFileAndLeavesNoTemporary) {
     const fs::path out = dir_ / "out";
-    fs::create_directories(out / "report.json");
+    fs::create_directories(out / "report.json" / "inside");
     const CliResult r = bouncecheck("run " + kScenarios + "/seed-2d.toml --engines reference --out " + out.string());
     EXPECT_EQ(r.status, 3) << r.output;
     EXPECT_NE(r.output.find("cannot write " + (out / "report.json").string() + ": Is a directory"), std::string::npos)
         << r.output;
     for (const auto& entry : fs::directory_iterator(out))
         EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << entry.path();
+    for (const char* file : {"report.md", "junit.xml", "bounces.csv", "report.html"})
+        EXPECT_TRUE(fs::is_regular_file(out / file)) << file << "\n" << r.output;
+
+    // Finding 15's variant: --trajectories into a scenario folder that cannot
+    // be one is found before anything runs.
+    const fs::path traj = dir_ / "traj";
+    fs::create_directories(traj);
+    write_file("traj/seed-2d", "a file where the scenario's folder goes\n");
+    const CliResult early = bouncecheck("run " + kScenarios + "/seed-2d.toml" +
+                                        " --engines reference --trajectories --out " + traj.string());
+    EXPECT_EQ(early.status, 2) << early.output;
+    EXPECT_NE(early.output.find("--out: cannot create " + (traj / "seed-2d").string()), std::string::npos) << early.output;
+    EXPECT_EQ(early.output.find("filesystem error"), std::string::npos) << early.output;
+    EXPECT_FALSE(fs::exists(traj / "report.json"));
 }
 
 // The audit's question: a scenario file's [external.NAME] command is run by

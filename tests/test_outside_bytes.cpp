@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 
 namespace fs = std::filesystem;
@@ -37,6 +38,18 @@ TEST(PrintableText, InvalidUtf8BecomesReplacementAndControlsBecomeEscapes) {
     EXPECT_EQ(printable_text("\xc2\x9b"), "\\x9b");                     // C1 CSI, as a code point
     const std::string four_replacements = "\xEF\xBF\xBD\xEF\xBF\xBD\xEF\xBF\xBD\xEF\xBF\xBD";
     EXPECT_EQ(printable_text("\xf4\x90\x80\x80"), four_replacements);  // above U+10FFFF
+}
+
+// A JSON library error reads without its "[json.exception...]" prefix.
+TEST(PrintableText, ErrorTextDropsTheJsonLibrarysPrefix) {
+    try {
+        const nlohmann::json parsed = nlohmann::json::parse("{\"a\": 1e400}");
+        FAIL() << "1e400 parsed: " << parsed.dump();
+    } catch (const std::exception& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("[json.exception.out_of_range.406] ", 0), 0u) << e.what();
+        EXPECT_EQ(error_text(e).rfind("number overflow parsing '1e400'", 0), 0u) << error_text(e);
+    }
+    EXPECT_EQ(error_text(std::runtime_error("plain \x1b[2J")), "plain \\x1b[2J");
 }
 
 class OutsideBytes : public test::TestDirectory {};
@@ -75,7 +88,7 @@ TEST_F(OutsideBytes, AFailingExternalsStderrCostsOnlyItsRowAndReachesNoOutputRaw
     const std::string json_text = html.substr(body, end - body);
     EXPECT_EQ(json_text.find('<'), std::string::npos);
     EXPECT_NE(json_text.find("\\u003c!--\\u003cscript>"), std::string::npos);
-    EXPECT_NO_THROW((void)nlohmann::json::parse(json_text));  // and it is still the run's JSON
+    EXPECT_TRUE(nlohmann::json::accept(json_text));  // and it is still the run's JSON
 }
 
 // The settings file the harness hands an external is the program's to

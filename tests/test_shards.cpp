@@ -344,6 +344,14 @@ TEST_F(Merge, RefusesHostileShardFiles) {
     EXPECT_NE(r.output.find("the shards hold 0 pairs, where their headers say the run has 1000000000"),
               std::string::npos)
         << r.output;
+    // 1 again: the same nesting inside one result, behind a right digest: the
+    // result is checked as the file is read, not left to crash the decoder.
+    forged.shard = {2, 2};
+    forged.pairs = 2;
+    forged.slots = {1};
+    forged.results = {std::string(200000, '\x81') + '\0'};
+    write_shard_file(shard_file("deep-result").parent_path(), forged);
+    refused("deep-result", "unreadable: result 1: byte 32: nested deeper than 32 levels");
     // The real pair still merges.
     EXPECT_LE(test::bouncecheck(fmt::format("merge --out {} {} {}", at("merged"), at("s1"), at("s2"))).status, 1);
 }

@@ -1,5 +1,7 @@
 #include "commands/diff/diff_pipeline.h"
 
+#include "platform/bounded_read.h"
+
 #include "platform/did_you_mean.h"
 #include "platform/printable_text.h"
 #include "reports/provenance.h"
@@ -298,39 +300,63 @@ std::optional<DiffTolerances> DiffJudging::tolerances() const {
     return t;
 }
 
+namespace {
+
+// Every string of a report, keys included, as printable_text makes it: a
+// report is outside bytes, and diff prints its names, reasons and settings
+// on the terminal and in diff.md (a scenario named with ESC[2J cleared the
+// screen). Nesting is already bounded by the reader.
+json printable_strings(const json& j) {
+    if (j.is_string()) return printable_text(j.get_ref<const std::string&>());
+    if (j.is_array()) {
+        json out = json::array();
+        for (const json& item : j) out.push_back(printable_strings(item));
+        return out;
+    }
+    if (j.is_object()) {
+        json out = json::object();
+        for (const auto& [key, value] : j.items()) out[printable_text(key)] = printable_strings(value);
+        return out;
+    }
+    return j;
+}
+
+}  // namespace
+
 std::variant<LoadedReport, std::string> load_run_report(const fs::path& path) {
     std::error_code ec;
     fs::path file = path;
     if (fs::is_directory(path, ec)) {
         file = path / "report.json";
         if (!fs::exists(file, ec))
-            return fmt::format("{}: holds no report.json (the output folder of `bouncecheck run`?)", path.string());
+            return fmt::format("{}: holds no report.json (the output folder of `bouncecheck run`?)", printable_text(path.string()));
     }
-    if (!fs::exists(file, ec)) return fmt::format("{}: no such file", file.string());
-    if (!fs::is_regular_file(file, ec)) return fmt::format("{}: not a regular file", file.string());
-    // Refused from its size, before it is read: a 2 GB file cost 4 GB and 11 s to be called "not JSON".
-    const std::uintmax_t size = fs::file_size(file, ec);
-    if (ec) return fmt::format("{}: cannot read: {}", file.string(), ec.message());
-    if (size > kMaxRunReportBytes)
-        return fmt::format("{}: {} bytes, over the limit of {} for a report", file.string(), size, kMaxRunReportBytes);
-    std::ifstream in(file, std::ios::binary);
-    if (!in) return fmt::format("{}: cannot open", file.string());
-    std::stringstream text;
-    text << in.rdbuf();
-    LoadedReport report{json(), file.string()};
+    const std::string shown = printable_text(file.string());  // a path is outside bytes too
+    if (!fs::exists(file, ec)) return fmt::format("{}: no such file", shown);
+    // Refused from its size, before it is read (a 2 GB file cost 4 GB and 11 s
+    // to be called "not JSON"); read once, without waiting on a FIFO.
+    auto read = read_bounded(file, kMaxRunReportBytes);
+    if (auto* refused = std::get_if<ReadRefusal>(&read)) {
+        if (refused->reason.find("over the limit") != std::string::npos)
+            return fmt::format("{}: {} for a report", shown, refused->reason);
+        return fmt::format("{}: {}", shown, refused->reason);
+    }
+    const std::string& text = std::get<std::string>(read);
+    LoadedReport report{json(), shown};
     // Nesting past any report's is refused as it is read.
     const json::parser_callback_t depth_limit = [](int depth, json::parse_event_t, json&) {
         if (depth > kMaxRunReportDepth) throw std::runtime_error(fmt::format("nested deeper than {} levels", kMaxRunReportDepth));
         return true;
     };
     try {
-        report.json = json::parse(text.str(), depth_limit);
+        report.json = json::parse(text, depth_limit);
     } catch (const json::exception& e) {  // parse_error, and out_of_range for a number like 1e400
-        return fmt::format("{}: not JSON this bouncecheck can read: {}", file.string(), e.what());
+        return fmt::format("{}: not JSON this bouncecheck can read: {}", shown, error_text(e));
     } catch (const std::runtime_error& e) {
-        return fmt::format("{}: {}", file.string(), e.what());
+        return fmt::format("{}: {}", shown, e.what());
     }
-    if (auto why = not_a_run_report(report.json)) return fmt::format("{}: {}", file.string(), *why);
+    if (auto why = not_a_run_report(report.json)) return fmt::format("{}: {}", shown, *why);
+    report.json = printable_strings(report.json);
     return report;
 }
 

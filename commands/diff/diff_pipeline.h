@@ -45,9 +45,10 @@ struct DiffJudging {
     std::optional<double> ratio() const { return timing_ratio > 0 ? std::optional<double>(timing_ratio) : std::nullopt; }
 };
 
-// What diff reads of a report.json: at most 1 GiB (checked before reading)
-// and 64 levels of nesting (a report nests 8).
-inline constexpr std::uintmax_t kMaxRunReportBytes = std::uintmax_t{1} << 30;
+// What diff reads of a report.json: at most 64 MiB (checked before reading;
+// a run's report takes about 40 KB a scenario, and reading one costs about
+// four times its size) and 64 levels of nesting (a report nests 8).
+inline constexpr std::uintmax_t kMaxRunReportBytes = std::uintmax_t{64} << 20;
 inline constexpr int kMaxRunReportDepth = 64;
 
 // A run report read from `path`: a report.json, or an output folder holding

@@ -118,6 +118,11 @@ int command_run(RunOptions opt) {
     const fs::path out_dir = opt.out_dir;
     auto out = OutputFolder::open(out_dir);
     if (!out) return kBadInput;
+    // --trajectories writes into a folder per scenario: each checked now too,
+    // not found unwritable after the run (the reference row called FAILED).
+    if (opt.trajectories)
+        for (const Scenario& s : *scenarios)
+            if (!OutputFolder::open(out_dir / s.name)) return kBadInput;
 
     RunReport report;
     report.provenance = this_provenance(/*with_machine=*/!opt.no_timings);

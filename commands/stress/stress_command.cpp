@@ -1,6 +1,7 @@
 // `bouncecheck stress`: the stress suite on every selected simulator, its
 // invariants judged, the matrix and files written.
 #include "commands/command.h"
+#include "platform/printable_text.h"
 
 #include "commands/shards.h"
 #include "commands/stress/stress_pipeline.h"
@@ -225,7 +226,7 @@ int merge_stress(const ShardSet& shards, OutputFolder& out, bool no_timings) {
         opt = stress_options_from(shards.options);
         opt.no_timings = no_timings;
     } catch (const std::exception& e) {
-        fmt::print(stderr, "error: the shards' stress options are unreadable: {}\n", e.what());
+        fmt::print(stderr, "error: the shards' stress options are unreadable: {}\n", error_text(e));
         return kBadInput;
     }
     const auto plan = plan_stress(opt);
@@ -235,7 +236,7 @@ int merge_stress(const ShardSet& shards, OutputFolder& out, bool no_timings) {
     try {
         report = stress_report_from_results(plan->cases, simulator_names(plan->simulators), opt.budget, shards.results);
     } catch (const std::exception& e) {
-        fmt::print(stderr, "error: a shard's result is unreadable: {}\n", e.what());
+        fmt::print(stderr, "error: a shard's result is unreadable: {}\n", error_text(e));
         return kBadInput;
     }
     report.wall_seconds = shards.wall_seconds;

@@ -1,5 +1,6 @@
 // `bouncecheck sweep`: the work-precision sweep of one scenario over a series of dt.
 #include "commands/command.h"
+#include "platform/printable_text.h"
 
 #include "commands/shards.h"
 #include "commands/sweep/sweep_pipeline.h"
@@ -200,7 +201,7 @@ int merge_sweep(const ShardSet& shards, OutputFolder& out, bool no_timings) {
     try {
         opt = sweep_options_from(shards.options);
     } catch (const std::exception& e) {
-        fmt::print(stderr, "error: the shards' sweep options are unreadable: {}\n", e.what());
+        fmt::print(stderr, "error: the shards' sweep options are unreadable: {}\n", error_text(e));
         return kBadInput;
     }
     const auto plan = plan_sweep(opt);
@@ -210,7 +211,7 @@ int merge_sweep(const ShardSet& shards, OutputFolder& out, bool no_timings) {
     try {
         result = sweep_result_from_rows(simulator_names(plan->simulators), plan->dts, shards.results);
     } catch (const std::exception& e) {
-        fmt::print(stderr, "error: a shard's row is unreadable: {}\n", e.what());
+        fmt::print(stderr, "error: a shard's row is unreadable: {}\n", error_text(e));
         return kBadInput;
     }
     return report_sweep(std::move(result), *plan, out, plan->parameters(opt, out.dir()), shards.wall_seconds,
