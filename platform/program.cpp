@@ -35,6 +35,18 @@ bool is_executable_file(const fs::path& p) {
     return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(p.c_str(), X_OK) == 0;
 }
 
+// The first executable file named `program` in a folder of PATH, as execvp
+// looks (an empty entry is the current folder).
+std::optional<fs::path> find_on_path(const std::string& program) {
+    const char* path = std::getenv("PATH");
+    std::stringstream dirs(path ? path : "/usr/local/bin:/usr/bin:/bin");
+    for (std::string dir; std::getline(dirs, dir, ':');) {
+        fs::path candidate = fs::path(dir.empty() ? "." : dir) / program;
+        if (is_executable_file(candidate)) return candidate;
+    }
+    return std::nullopt;
+}
+
 // Holds SIGPIPE off in this thread while alive, so that writing to a program
 // that has closed its input is an EPIPE error rather than the death of this
 // process; a SIGPIPE raised meanwhile is consumed, not delivered.
@@ -113,11 +125,7 @@ std::optional<std::string> resolve_program(const std::string& program, const fs:
         if (why) *why = fmt::format("'{}' is not an executable file", p.string());
         return std::nullopt;
     }
-    const char* path = std::getenv("PATH");
-    std::stringstream dirs(path ? path : "/usr/local/bin:/usr/bin:/bin");
-    for (std::string dir; std::getline(dirs, dir, ':');) {
-        if (is_executable_file(fs::path(dir.empty() ? "." : dir) / program)) return program;
-    }
+    if (find_on_path(program)) return program;
     if (why) *why = fmt::format("'{}' is not found on PATH", program);
     return std::nullopt;
 }
@@ -381,12 +389,7 @@ void close_all_but(const int (&keep)[4]) {
 std::string exec_path(const std::string& program, int& error) {
     error = 0;
     if (program.find('/') != std::string::npos) return program;
-    const char* path = std::getenv("PATH");
-    std::stringstream dirs(path ? path : "/usr/local/bin:/usr/bin:/bin");
-    for (std::string dir; std::getline(dirs, dir, ':');) {
-        const fs::path candidate = fs::path(dir.empty() ? "." : dir) / program;
-        if (is_executable_file(candidate)) return candidate.string();
-    }
+    if (auto found = find_on_path(program)) return found->string();
     error = ENOENT;
     return {};
 }
