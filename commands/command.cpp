@@ -142,6 +142,9 @@ void add_external_options(CLI::App& command, ExternalOptions& options) {
     command.add_option("--external", options.declarations,
                        "NAME=COMMAND: run COMMAND (split on whitespace, no shell) as simulator NAME through the "
                        "external protocol, docs/external.md (repeatable)");
+    command.add_option("--external-session", options.session_declarations,
+                       "NAME=COMMAND: as --external, for a program that answers scenario after scenario in one "
+                       "process (docs/external.md, Sessions): started once per worker, not once per run (repeatable)");
     command.add_option("--external-timeout", options.timeout_seconds,
                        "Seconds an external simulator may go without output before it is killed (it is also "
                        "killed after the command's --budget, or an hour, in all)")
@@ -172,9 +175,12 @@ std::optional<ExtraSimulators> ExtraSimulators::from_options(const ExternalOptio
     extra.limits_ = options.limits();
     extra.refuse_scenario_programs_ = options.refuse_scenario_programs;
     bool ok = true;
-    for (const std::string& arg : options.declarations) {
-        const auto error = [&](const std::string& why) {
-            fmt::print(stderr, "error: --external {}: {}\n", arg, why);
+    std::vector<std::pair<std::string, bool>> declared;  // NAME=COMMAND, and whether it is a session program
+    for (const std::string& arg : options.declarations) declared.emplace_back(arg, false);
+    for (const std::string& arg : options.session_declarations) declared.emplace_back(arg, true);
+    for (const auto& [arg, session] : declared) {
+        const auto error = [&, session = session](const std::string& why) {
+            fmt::print(stderr, "error: {} {}: {}\n", session ? "--external-session" : "--external", arg, why);
             ok = false;
         };
         const auto eq = arg.find('=');
@@ -183,6 +189,7 @@ std::optional<ExtraSimulators> ExtraSimulators::from_options(const ExternalOptio
             continue;
         }
         ExternalDeclaration d{arg.substr(0, eq), {}};
+        d.session = session;
         std::istringstream words(arg.substr(eq + 1));
         for (std::string word; words >> word;) d.command.push_back(word);
         if (auto problem = extra_name_problem(d.name)) {
@@ -301,12 +308,20 @@ std::vector<const Simulator*> ExtraSimulators::for_scenario(const Scenario& s,
 }
 
 nlohmann::json to_json(const ExternalOptions& options) {
-    return {{"declarations", options.declarations}, {"timeout", options.timeout_seconds}, {"total", options.total_seconds}};
+    return {{"declarations", options.declarations},
+            {"session_declarations", options.session_declarations},
+            {"timeout", options.timeout_seconds},
+            {"total", options.total_seconds}};
 }
 
 ExternalOptions external_options_from(const nlohmann::json& j) {
-    return {j.at("declarations").get<std::vector<std::string>>(), j.at("timeout").get<double>(),
-            j.at("total").get<double>()};
+    ExternalOptions options;
+    options.declarations = j.at("declarations").get<std::vector<std::string>>();
+    // A shard written before sessions existed has none.
+    options.session_declarations = j.value("session_declarations", std::vector<std::string>{});
+    options.timeout_seconds = j.at("timeout").get<double>();
+    options.total_seconds = j.at("total").get<double>();
+    return options;
 }
 
 std::vector<std::string> simulator_names(const std::vector<const Simulator*>& simulators) {

@@ -97,6 +97,9 @@ void record_outputs(OutputFolder& out, std::string_view kind, const WrittenFiles
 // commands that run simulators (docs/external.md).
 struct ExternalOptions {
     std::vector<std::string> declarations;  // NAME=COMMAND
+    // --external-session NAME=COMMAND: a program that answers scenario after
+    // scenario in one process (docs/external.md, Sessions).
+    std::vector<std::string> session_declarations;
     double timeout_seconds = kDefaultExternalTimeoutSeconds;
     // Not an option of its own: the command's --budget, where it has one
     // (external_simulator.h).

@@ -14,6 +14,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 
@@ -97,11 +99,49 @@ RunOutcome failed(RunOutcome out, std::string reason) {
     return out;
 }
 
+// The idle sessions of one session program, each ready for its next
+// scenario, by working folder. Only this process's are used: a worker
+// forked from it leaves the parent's alone (ProgramSession::disown).
+class SessionPool {
+public:
+    std::unique_ptr<ProgramSession> take(const fs::path& cwd) {
+        const std::lock_guard lock(mutex_);
+        std::unique_ptr<ProgramSession> found;
+        for (auto it = idle_.begin(); it != idle_.end();) {
+            if (!it->second->owned_here()) {
+                it->second->disown();
+                it = idle_.erase(it);
+            } else if (!found && it->first == cwd && it->second->running()) {
+                found = std::move(it->second);
+                it = idle_.erase(it);
+            } else if (!it->second->running()) {
+                it = idle_.erase(it);  // ended meanwhile: stopped and reaped here
+            } else {
+                ++it;
+            }
+        }
+        return found;
+    }
+    void give_back(const fs::path& cwd, std::unique_ptr<ProgramSession> session) {
+        const std::lock_guard lock(mutex_);
+        idle_.emplace(cwd, std::move(session));
+    }
+    ~SessionPool() {
+        for (auto& [cwd, session] : idle_)
+            if (!session->owned_here()) session->disown();
+    }
+
+private:
+    std::mutex mutex_;
+    std::multimap<fs::path, std::unique_ptr<ProgramSession>> idle_;
+};
+
 class ExternalSimulator final : public Simulator {
 public:
     ExternalSimulator(ExternalDeclaration d, ExternalLimits limits)
         : declaration_(std::move(d)), limits_(limits),
-          origin_(fmt::format("external: {}", fmt::join(declaration_.command, " "))) {}
+          origin_(declaration_.origin.empty() ? fmt::format("external: {}", fmt::join(declaration_.command, " "))
+                                              : declaration_.origin) {}
 
     std::string_view name() const override { return declaration_.name; }
     std::string_view description() const override { return origin_; }
@@ -114,21 +154,34 @@ public:
         const SettingsFile settings;
         TrajectoryReader reader(s);
         RowsToSink rows(s, sink);
-        ProgramRequest request;
-        request.argv = declaration_.command;
-        request.cwd = s.source.parent_path();
-        request.input = external_input(s, declaration_.name, settings.path());
-        request.on_output = [&](std::string_view bytes) { return reader.feed(bytes, rows); };
-        request.silence_timeout_seconds = limits_.silence_seconds;
-        request.total_timeout_seconds = limits_.total_seconds;
+        const std::string input =
+            external_input(s, declaration_.name, settings.path(), declaration_.builtin_engine);
+        const auto on_output = [&](std::string_view bytes) { return reader.feed(bytes, rows); };
         ProgramEnd end;
-        out.run_seconds = timed_seconds([&] { end = run_program(request); });
+        if (declaration_.session) {
+            out.run_seconds = timed_seconds([&] { end = exchange(s.source.parent_path(), input, on_output, reader, out); });
+        } else {
+            ProgramRequest request;
+            request.argv = declaration_.command;
+            request.cwd = s.source.parent_path();
+            request.input = input;
+            request.on_output = on_output;
+            request.silence_timeout_seconds = limits_.silence_seconds;
+            request.total_timeout_seconds = limits_.total_seconds;
+            out.run_seconds = timed_seconds([&] { end = run_program(request); });
+        }
 
         if (rows.stopped()) return out;
         const auto with_stderr = [&](const std::string& what) {
             return end.stderr_tail.empty() ? what : fmt::format("{}; stderr: {}", what, end.stderr_tail);
         };
         if (reader.problem()) return failed(out, with_stderr("malformed trajectory: " + reader.problem()->format()));
+        // A session's reply ends with #end: without it, the harness waits on
+        // a program that waits for its next scenario, until a limit.
+        if (declaration_.session && !reader.ended() && reader.rows() == reader.expected_rows())
+            return failed(out, fmt::format("every row came, but no #end line after them: a session's reply must end "
+                                           "with one (docs/external.md, Sessions); {}",
+                                           end.succeeded() ? "the program then exited" : end.describe()));
         if (!end.succeeded()) return failed(out, end.describe());
         if (!reader.finish(rows)) {
             if (rows.stopped()) return out;
@@ -154,9 +207,47 @@ public:
     }
 
 private:
+    // One scenario through a session: an idle one of this process, or a new
+    // one. A whole reply keeps the session for the next scenario; anything
+    // else has ended it (ProgramSession::exchange), and the row is judged
+    // as a one-shot program's would be.
+    ProgramEnd exchange(const fs::path& cwd, const std::string& input,
+                        const std::function<bool(std::string_view)>& on_output, const TrajectoryReader& reader,
+                        RunOutcome& out) const {
+        std::unique_ptr<ProgramSession> session = sessions_.take(cwd);
+        bool reused = session != nullptr;
+        for (;;) {
+            if (!session) {
+                ProgramEnd not_started;
+                if (!(session = ProgramSession::start(declaration_.command, cwd, not_started.error))) return not_started;
+            }
+            auto ended = session->exchange(input, on_output, [&] { return reader.ended(); }, limits_.silence_seconds,
+                                           limits_.total_seconds);
+            // An idle session that ended between its last reply and this
+            // request (its program exited after answering) is not this
+            // scenario's failure: a new one takes the scenario.
+            if (ended && reused && reader.rows() == 0 && !reader.problem()) {
+                session.reset();
+                reused = false;
+                continue;
+            }
+            out.settings.push_back({"session", reused ? "reused" : "started",
+                                    reused ? "the program's process answered an earlier scenario: no start-up in "
+                                             "this run"
+                                           : "a new process for this run: its start-up is in this run's "
+                                             "outside_step_seconds"});
+            if (ended) return *ended;
+            sessions_.give_back(cwd, std::move(session));
+            ProgramEnd whole;
+            whole.how = ProgramEnd::How::exited;
+            return whole;
+        }
+    }
+
     ExternalDeclaration declaration_;
     ExternalLimits limits_;
     std::string origin_;
+    mutable SessionPool sessions_;
 };
 
 class ImportedTrajectory final : public Simulator {
@@ -192,8 +283,30 @@ std::unique_ptr<const Simulator> make_imported_trajectory(std::string name, std:
     return std::make_unique<ImportedTrajectory>(std::move(name), std::move(file));
 }
 
-std::string external_input(const Scenario& s, const std::string& name, const std::string& settings_file) {
+namespace {
+
+// A built-in engine's [engines.NAME]: its own keys as written, and the
+// shared options as the harness read them (defaults filled in).
+json builtin_engine_table(const Scenario& s, const std::string& name) {
+    const auto own = s.passthrough_tables.find(name);
+    json table = own == s.passthrough_tables.end() ? json::object() : json::parse(own->second);
+    const EngineOptions options = s.engine_options(name);
+    table["tangential_model"] = options.tangential_model == TangentialModel::per_contact ? "per-contact" : "friction";
+    table["friction"] = options.friction;
+    table["rotation"] = options.free_rotation ? "free" : "locked";
+    table["substeps"] = options.substeps;
+    if (options.ccd) table["ccd"] = *options.ccd;
+    return table;
+}
+
+}  // namespace
+
+std::string external_input(const Scenario& s, const std::string& name, const std::string& settings_file,
+                           bool builtin_engine) {
     const auto table = s.passthrough_tables.find(name);
+    json engine = builtin_engine                       ? builtin_engine_table(s, name)
+                  : table == s.passthrough_tables.end() ? json::object()
+                                                        : json::parse(table->second);
     const json j = {
         {"protocol", kExternalProtocol},
         {"scenario", s.name},
@@ -208,7 +321,7 @@ std::string external_input(const Scenario& s, const std::string& name, const std
         {"dt", s.dt},
         {"duration", s.duration},
         {"steps", document_step_count(s.dt, s.duration)},
-        {"engine", table == s.passthrough_tables.end() ? json::object() : json::parse(table->second)},
+        {"engine", std::move(engine)},
         {"settings_file", settings_file},
     };
     return j.dump(-1, ' ', false, json::error_handler_t::replace) + "\n";  // a path may not be UTF-8

@@ -9,6 +9,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace bouncecheck {
@@ -29,8 +30,21 @@ struct ExternalLimits {
 
 // NAME=COMMAND, from --external or a scenario's [external.NAME].
 struct ExternalDeclaration {
+    ExternalDeclaration() = default;
+    ExternalDeclaration(std::string name_, std::vector<std::string> command_)
+        : name(std::move(name_)), command(std::move(command_)) {}
+
     std::string name;
     std::vector<std::string> command;  // argv; the program as resolve_program gives it
+    // The program answers scenario after scenario in one process
+    // (docs/external.md, Sessions): it is started once per worker process
+    // and working folder, and kept while its replies are whole.
+    bool session = false;
+    // A built-in engine hosted by the program (the Node engines): the
+    // scenario's [engines.NAME] shared options are the harness's, and reach
+    // the program normalized, with the engine's own keys beside them.
+    bool builtin_engine = false;
+    std::string origin;  // the rows' `source`; empty: "external: COMMAND"
 };
 
 // Runs `declaration`'s program once per scenario, in the scenario's folder,
@@ -40,8 +54,10 @@ std::unique_ptr<const Simulator> make_external_simulator(ExternalDeclaration dec
 // Replays the trajectory in `file` (checked beforehand with check_trajectory_file).
 std::unique_ptr<const Simulator> make_imported_trajectory(std::string name, std::string file);
 
-// The JSON object an external program reads on its standard input.
-std::string external_input(const Scenario& s, const std::string& name, const std::string& settings_file);
+// The JSON object an external program reads on its standard input, on one
+// line. `builtin_engine`: see ExternalDeclaration.
+std::string external_input(const Scenario& s, const std::string& name, const std::string& settings_file,
+                           bool builtin_engine = false);
 
 // An external's settings file is a short JSON array of flat objects: at most
 // 1 MiB (so a value cannot balloon every report) and 8 levels deep.

@@ -84,6 +84,8 @@ public:
     // What the program measured of its own engine's steps, when its stream
     // ends with `#end {"step_seconds": S}` (docs/external.md, Output).
     std::optional<double> step_seconds() const { return step_seconds_; }
+    // The `#end` line has been read, well formed: a session's reply is whole.
+    bool ended() const { return ended_ && !problem_; }
     std::int64_t rows() const { return rows_; }
     std::int64_t expected_rows() const { return expected_rows_; }
 

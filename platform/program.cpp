@@ -396,19 +396,27 @@ std::string exec_path(const std::string& program, int& error) {
 
 }  // namespace
 
-ProgramEnd run_program(const ProgramRequest& request) {
-    ProgramEnd end;
-    end.silence_timeout_seconds = request.silence_timeout_seconds;
-    end.total_timeout_seconds = request.total_timeout_seconds;
-    if (request.argv.empty()) {
+namespace {
+
+// A program started under its shepherd: the harness's ends of its pipes.
+struct Launched {
+    int in = -1, out = -1, err = -1, status = -1;  // its stdin, stdout, stderr, the shepherd's report
+    pid_t shepherd = -1;
+    int slot = -1;
+    std::string err_tail;
+};
+
+// Starts `argv` in `cwd` under a shepherd; nothing, with `end.error`, if it cannot.
+std::optional<Launched> launch(const std::vector<std::string>& argv_in, const fs::path& cwd, ProgramEnd& end) {
+    if (argv_in.empty()) {
         end.error = "the command is empty";
-        return end;
+        return std::nullopt;
     }
     int lookup_error = 0;
-    const std::string path = exec_path(request.argv[0], lookup_error);
+    const std::string path = exec_path(argv_in[0], lookup_error);
     if (path.empty()) {
-        end.error = fmt::format("{}: {}", request.argv[0], std::strerror(lookup_error));
-        return end;
+        end.error = fmt::format("{}: {}", argv_in[0], std::strerror(lookup_error));
+        return std::nullopt;
     }
     // Close-on-exec from birth: a program started by another thread at the
     // same time must not inherit these ends (it would hold our pipes open).
@@ -418,14 +426,14 @@ ProgramEnd run_program(const ProgramRequest& request) {
         if (::pipe2(fds, O_CLOEXEC) != 0) {
             end.error = fmt::format("pipe: {}", std::strerror(errno));
             for (Pipe* q : {&in, &out, &err, &status}) close_fd(q->read), close_fd(q->write);
-            return end;
+            return std::nullopt;
         }
         *p = Pipe{fds[0], fds[1]};
     }
     std::vector<char*> argv;
-    for (const std::string& a : request.argv) argv.push_back(const_cast<char*>(a.c_str()));
+    for (const std::string& a : argv_in) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
-    const ShepherdPlan plan{path.c_str(), argv.data(), request.cwd.empty() ? nullptr : request.cwd.c_str(),
+    const ShepherdPlan plan{path.c_str(), argv.data(), cwd.empty() ? nullptr : cwd.c_str(),
                             in.read, out.write, err.write, status.write};
 
     // Every signal blocked across the fork: the shepherd starts with none
@@ -445,116 +453,138 @@ ProgramEnd run_program(const ProgramRequest& request) {
     if (shepherd < 0) {
         end.error = fmt::format("fork: {}", std::strerror(fork_error));
         for (int* fd : {&in.write, &out.read, &err.read, &status.read}) close_fd(*fd);
-        return end;
+        return std::nullopt;
     }
-    const int slot = claim_shepherd_slot(shepherd);
-    for (int fd : {in.write, out.read, err.read}) ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) | O_NONBLOCK);
+    Launched launched{in.write, out.read, err.read, status.read, shepherd, claim_shepherd_slot(shepherd), {}};
+    for (int fd : {launched.in, launched.out, launched.err}) ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) | O_NONBLOCK);
+    return launched;
+}
 
+void drain_stderr(Launched& p) {
+    char buffer[65536];
+    for (;;) {
+        const ssize_t n = ::read(p.err, buffer, sizeof buffer);
+        if (n > 0) keep_tail(p.err_tail, {buffer, static_cast<std::size_t>(n)});
+        else if (n < 0 && errno == EINTR) continue;
+        else {
+            if (n == 0) close_fd(p.err);
+            return;
+        }
+    }
+}
+
+// An exchange's limits: no output for `silence_seconds`, or past `total`.
+struct Deadlines {
+    double silence_seconds;
+    Clock::time_point silence, total;
+    Deadlines(double silence_s, double total_s)
+        : silence_seconds(silence_s), silence(deadline_after(silence_s)),
+          total(total_s > 0 ? deadline_after(total_s) : Clock::time_point::max()) {}
+    void heard() { silence = deadline_after(silence_seconds); }
+    std::optional<ProgramEnd::How> passed() const {
+        const auto now = Clock::now();
+        if (now >= total) return ProgramEnd::How::over_total_time;
+        if (now >= silence) return ProgramEnd::How::timed_out;
+        return std::nullopt;
+    }
+    int millis_left() const { return millis_until(std::min(silence, total)); }
+};
+
+// One exchange with a launched program: writes `input` (then closes its
+// standard input if `close_input`), passes its standard output on, keeps the
+// tail of its standard error (a program blocked on a full stderr pipe would
+// otherwise never finish), until its standard output ends (the program and
+// everything it left are gone, or closed it), or `complete()` says the reply
+// is whole after a piece of it. Returns why the harness cut it short, if it did.
+std::optional<ProgramEnd::How> pump(Launched& p, std::string_view input, bool close_input,
+                                    const std::function<bool(std::string_view)>& on_output,
+                                    const std::function<bool()>& complete, Deadlines& limits,
+                                    std::string& error) {
     const SigpipeHeld held;
-    std::string err_tail;
     char buffer[65536];
     std::size_t written = 0;
-    if (request.input.empty()) close_fd(in.write);
-    auto silence_deadline = deadline_after(request.silence_timeout_seconds);
-    const auto total_deadline = request.total_timeout_seconds > 0 ? deadline_after(request.total_timeout_seconds)
-                                                                  : Clock::time_point::max();
-    const auto over_a_limit = [&]() -> std::optional<ProgramEnd::How> {
-        const auto now = Clock::now();
-        if (now >= total_deadline) return ProgramEnd::How::over_total_time;
-        if (now >= silence_deadline) return ProgramEnd::How::timed_out;
-        return std::nullopt;
+    const auto input_done = [&] {
+        if (close_input) close_fd(p.in);
     };
-    const auto millis_left = [&] { return millis_until(std::min(silence_deadline, total_deadline)); };
-    const auto drain_stderr = [&] {
-        for (;;) {
-            const ssize_t n = ::read(err.read, buffer, sizeof buffer);
-            if (n > 0) keep_tail(err_tail, {buffer, static_cast<std::size_t>(n)});
-            else if (n < 0 && errno == EINTR) continue;
-            else {
-                if (n == 0) close_fd(err.read);
-                return;
-            }
-        }
-    };
-
-    // Until standard output ends (the program and everything it left are
-    // gone, or closed it): feed the input, pass the output on, keep the tail
-    // of standard error (a program blocked on a full stderr pipe would
-    // otherwise never finish).
-    std::optional<ProgramEnd::How> cut;  // why the harness ended the run
-    while (out.read >= 0) {
-        pollfd fds[3] = {{in.write, POLLOUT, 0}, {out.read, POLLIN, 0}, {err.read, POLLIN, 0}};
-        const int ready = ::poll(fds, 3, millis_left());
+    if (input.empty()) input_done();
+    while (p.out >= 0) {
+        const bool writing = written < input.size() && p.in >= 0;
+        pollfd fds[3] = {{writing ? p.in : -1, POLLOUT, 0}, {p.out, POLLIN, 0}, {p.err, POLLIN, 0}};
+        const int ready = ::poll(fds, 3, limits.millis_left());
         if (ready < 0 && errno != EINTR) {
-            end.error = fmt::format("poll: {}", std::strerror(errno));
-            cut = ProgramEnd::How::stopped;
-            break;
+            error = fmt::format("poll: {}", std::strerror(errno));
+            return ProgramEnd::How::stopped;
         }
-        if ((cut = over_a_limit())) break;
+        if (const auto cut = limits.passed()) return cut;
         if (ready <= 0) continue;
         if (fds[0].revents & (POLLOUT | POLLERR | POLLHUP)) {
-            const ssize_t n = ::write(in.write, request.input.data() + written, request.input.size() - written);
+            const ssize_t n = ::write(p.in, input.data() + written, input.size() - written);
             if (n > 0) written += static_cast<std::size_t>(n);
             // EPIPE: the program closed its input unread; what it does next decides.
-            if ((n < 0 && errno != EAGAIN && errno != EINTR) || written == request.input.size()) close_fd(in.write);
+            if (n < 0 && errno != EAGAIN && errno != EINTR) close_fd(p.in);
+            else if (written == input.size()) input_done();
         }
-        if (fds[2].revents & (POLLIN | POLLHUP | POLLERR)) drain_stderr();
+        if (fds[2].revents & (POLLIN | POLLHUP | POLLERR)) drain_stderr(p);
         if (fds[1].revents & (POLLIN | POLLHUP | POLLERR)) {
-            const ssize_t n = ::read(out.read, buffer, sizeof buffer);
+            const ssize_t n = ::read(p.out, buffer, sizeof buffer);
             if (n > 0) {
-                silence_deadline = deadline_after(request.silence_timeout_seconds);
-                if (!request.on_output({buffer, static_cast<std::size_t>(n)})) {
-                    cut = ProgramEnd::How::stopped;
-                    break;
-                }
+                limits.heard();
+                if (!on_output({buffer, static_cast<std::size_t>(n)})) return ProgramEnd::How::stopped;
+                if (complete && complete()) return std::nullopt;
             } else if (n == 0 || (errno != EAGAIN && errno != EINTR)) {
-                close_fd(out.read);
+                close_fd(p.out);
             }
         }
     }
-    close_fd(in.write);
+    return std::nullopt;
+}
 
-    // Standard output has ended, or the harness cut the run: wait for the
-    // shepherd's report, which it writes once the program and all it left
-    // are reaped (within the same limits; once cut, it is told to stop, and
-    // killed if it has not within five seconds). Waited for on its pipe, not
-    // polled: a run costs no sleep.
+// Ends a launched program: its standard output has ended, or the harness
+// cut the run (`cut`). Waits for the shepherd's report, which it writes once
+// the program and all it left are reaped (within `limits`; once cut,
+// it is told to stop, and killed if it has not within five seconds). Waited
+// for on its pipe, not polled: a run costs no sleep.
+void reap(Launched& p, std::optional<ProgramEnd::How> cut, const Deadlines& limits, const std::string& program,
+          const fs::path& cwd, ProgramEnd& end) {
+    close_fd(p.in);
     auto give_up = Clock::time_point::max();
-    if (cut) ::kill(shepherd, SIGTERM), give_up = deadline_after(5);
+    if (cut) ::kill(p.shepherd, SIGTERM), give_up = deadline_after(5);
     for (;;) {
-        pollfd fds[2] = {{status.read, POLLIN, 0}, {err.read, POLLIN, 0}};
-        const int wait_ms = cut ? millis_until(give_up) : millis_left();
+        pollfd fds[2] = {{p.status, POLLIN, 0}, {p.err, POLLIN, 0}};
+        const int wait_ms = cut ? millis_until(give_up) : limits.millis_left();
         if (::poll(fds, 2, wait_ms) < 0 && errno != EINTR) break;
-        if (fds[1].revents & (POLLIN | POLLHUP | POLLERR)) drain_stderr();
+        if (fds[1].revents & (POLLIN | POLLHUP | POLLERR)) drain_stderr(p);
         if (fds[0].revents & (POLLIN | POLLHUP | POLLERR)) break;  // the report, or the shepherd is gone
-        if (!cut && (cut = over_a_limit())) ::kill(shepherd, SIGTERM), give_up = deadline_after(5);
+        if (!cut && (cut = limits.passed())) ::kill(p.shepherd, SIGTERM), give_up = deadline_after(5);
         if (Clock::now() >= give_up) {
-            ::kill(shepherd, SIGKILL);
+            ::kill(p.shepherd, SIGKILL);
             break;
         }
     }
-    ::fcntl(status.read, F_SETFL, ::fcntl(status.read, F_GETFL) | O_NONBLOCK);  // killed: no report to wait for
+    ::fcntl(p.status, F_SETFL, ::fcntl(p.status, F_GETFL) | O_NONBLOCK);  // killed: no report to wait for
     ShepherdReport report;
     ssize_t got = 0;
-    while ((got = ::read(status.read, &report, sizeof report)) < 0 && errno == EINTR) {
+    while ((got = ::read(p.status, &report, sizeof report)) < 0 && errno == EINTR) {
     }
-    while (::waitpid(shepherd, nullptr, 0) < 0 && errno == EINTR) {
+    while (::waitpid(p.shepherd, nullptr, 0) < 0 && errno == EINTR) {
     }
-    release_shepherd_slot(slot);
-    if (err.read >= 0) drain_stderr();
-    close_fd(out.read);
-    close_fd(err.read);
-    close_fd(status.read);
+    p.shepherd = -1;  // reaped: its pid may be another process's from now on
+    release_shepherd_slot(p.slot);
+    p.slot = -1;
+    if (p.err >= 0) drain_stderr(p);
+    close_fd(p.out);
+    close_fd(p.err);
+    close_fd(p.status);
 
-    end.stderr_tail = last_lines(err_tail, 5);
+    end.stderr_tail = last_lines(p.err_tail, 5);
     if (cut) {
         end.how = *cut;
     } else if (got != static_cast<ssize_t>(sizeof report)) {
         end.how = ProgramEnd::How::stopped;  // the shepherd died without a word
         end.error = "its supervising process ended without reporting";
     } else if (report.kind == ShepherdReport::not_started) {
-        end.error = report.chdir_failed ? fmt::format("{}: {}", request.cwd.string(), std::strerror(report.code))
-                                        : fmt::format("{}: {}", request.argv[0], std::strerror(report.code));
+        end.error = report.chdir_failed ? fmt::format("{}: {}", cwd.string(), std::strerror(report.code))
+                                        : fmt::format("{}: {}", program, std::strerror(report.code));
     } else if (report.kind == ShepherdReport::signalled) {
         end.how = ProgramEnd::How::signalled;
         end.code = report.code;
@@ -562,8 +592,95 @@ ProgramEnd run_program(const ProgramRequest& request) {
         end.how = ProgramEnd::How::exited;
         end.code = report.code;
     }
+}
+
+}  // namespace
+
+ProgramEnd run_program(const ProgramRequest& request) {
+    ProgramEnd end;
+    end.silence_timeout_seconds = request.silence_timeout_seconds;
+    end.total_timeout_seconds = request.total_timeout_seconds;
+    auto launched = launch(request.argv, request.cwd, end);
+    if (!launched) return end;
+    Deadlines limits(request.silence_timeout_seconds, request.total_timeout_seconds);
+    const auto cut = pump(*launched, request.input, /*close_input=*/true, request.on_output, {}, limits, end.error);
+    reap(*launched, cut, limits, request.argv[0], request.cwd, end);
     return end;
 }
+
+struct ProgramSession::Running {
+    Launched program;
+    pid_t owner = ::getpid();
+    std::string argv0;
+    fs::path cwd;
+};
+
+std::unique_ptr<ProgramSession> ProgramSession::start(const std::vector<std::string>& argv, const fs::path& cwd,
+                                                      std::string& why) {
+    ProgramEnd end;
+    auto launched = launch(argv, cwd, end);
+    if (!launched) {
+        why = end.error;
+        return nullptr;
+    }
+    auto session = std::unique_ptr<ProgramSession>(new ProgramSession);
+    session->running_ = std::make_unique<Running>(Running{std::move(*launched), ::getpid(), argv[0], cwd});
+    return session;
+}
+
+ProgramSession::~ProgramSession() {
+    if (!running_ || running_->owner != ::getpid()) {
+        disown();
+        return;
+    }
+    if (running_->program.shepherd < 0) return;  // an exchange already ended and reaped it
+    // Its standard input closed, the program is told to stop; reap waits for
+    // its shepherd's word that everything it started is gone.
+    ProgramEnd end;
+    reap(running_->program, ProgramEnd::How::stopped, Deadlines(5, 5), running_->argv0, running_->cwd, end);
+}
+
+std::optional<ProgramEnd> ProgramSession::exchange(std::string_view input,
+                                                   const std::function<bool(std::string_view)>& on_output,
+                                                   const std::function<bool()>& complete, double silence_seconds,
+                                                   double total_seconds) {
+    ProgramEnd end;
+    end.silence_timeout_seconds = silence_seconds;
+    end.total_timeout_seconds = total_seconds;
+    Launched& p = running_->program;
+    if (p.shepherd < 0 || p.out < 0) {
+        end.how = ProgramEnd::How::stopped;
+        end.error = "its session had already ended";
+        return end;
+    }
+    Deadlines limits(silence_seconds, total_seconds);
+    bool whole = false;
+    const auto cut = pump(p, input, /*close_input=*/false, on_output, [&] { return whole = complete(); }, limits,
+                          end.error);
+    if (!cut && whole) return std::nullopt;
+    reap(p, cut, limits, running_->argv0, running_->cwd, end);
+    return end;
+}
+
+bool ProgramSession::running() const {
+    if (!running_ || running_->owner != ::getpid() || running_->program.out < 0) return false;
+    // The shepherd reports only when the program has ended.
+    pollfd status{running_->program.status, POLLIN, 0};
+    return ::poll(&status, 1, 0) == 0;
+}
+
+bool ProgramSession::owned_here() const { return running_ && running_->owner == ::getpid(); }
+
+void ProgramSession::disown() {
+    if (!running_) return;
+    Launched& p = running_->program;
+    for (int* fd : {&p.in, &p.out, &p.err, &p.status}) close_fd(*fd);
+    // The slot array is this process's copy: the parent still holds its own.
+    release_shepherd_slot(p.slot);
+    running_.reset();
+}
+
+ProgramSession::ProgramSession() = default;
 
 void kill_running_programs() {
     // Each shepherd kills its program's whole tree; the caller dies next,

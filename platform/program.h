@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -56,6 +57,44 @@ struct ProgramEnd {
 // gone. Blocks; safe to call from several threads at once (every descriptor
 // is close-on-exec, SIGPIPE is held off in the calling thread only).
 ProgramEnd run_program(const ProgramRequest& request);
+
+// A program kept running across several exchanges (docs/external.md,
+// Sessions), under the same shepherd as run_program's: each exchange writes
+// a request to its standard input, which stays open, and reads its reply.
+// A session belongs to the process that started it: in a forked child it is
+// neither used nor stopped (disown), and the parent's stays whole.
+class ProgramSession {
+public:
+    // Starts `argv` in `cwd`; nothing, with `why`, if it cannot start (a
+    // program whose exec fails is seen at the first exchange).
+    static std::unique_ptr<ProgramSession> start(const std::vector<std::string>& argv,
+                                                 const std::filesystem::path& cwd, std::string& why);
+    // Closes its standard input and stops it with everything it started.
+    ~ProgramSession();
+    ProgramSession(const ProgramSession&) = delete;
+    ProgramSession& operator=(const ProgramSession&) = delete;
+
+    // Writes `input`, then passes each piece of standard output to
+    // `on_output` (false: stop) until `complete()`, asked after each piece,
+    // says the reply is whole: nothing is returned, and the session goes
+    // on. Otherwise the program ended, or was stopped at a limit or by
+    // `on_output`: how it ended is returned, and the session is over.
+    std::optional<ProgramEnd> exchange(std::string_view input, const std::function<bool(std::string_view)>& on_output,
+                                       const std::function<bool()>& complete, double silence_seconds,
+                                       double total_seconds);
+    // Still running, as far as can be seen without waiting, and this process's.
+    bool running() const;
+    // Started by this process (not a copy inherited by a fork).
+    bool owned_here() const;
+    // Forgets the program without stopping it: this process's copy of the
+    // session, in a forked child, while the parent keeps the program.
+    void disown();
+
+private:
+    ProgramSession();
+    struct Running;
+    std::unique_ptr<Running> running_;
+};
 
 // Stops every program run_program is running, with everything it started.
 // Async-signal-safe: the interrupt handler (atomic_file.h) calls it, so that

@@ -67,12 +67,12 @@ public:
     }
     RunOutcome run(const Scenario& s, RunSink& sink) const override {
         const Loaded& loaded_engine = loaded(module_, entry_);
-        if (!loaded_engine.engine) return {RunStatus::failed, loaded_engine.why_not, {}, 0};
+        if (!loaded_engine.engine) return {RunStatus::failed, loaded_engine.why_not, {}, 0, std::nullopt};
         return loaded_engine.engine->run(s, sink);
     }
     UnrecordedRun run_unrecorded(const Scenario& s) const override {
         const Loaded& loaded_engine = loaded(module_, entry_);
-        if (!loaded_engine.engine) return {RunStatus::failed, loaded_engine.why_not, 0, {}, 0};
+        if (!loaded_engine.engine) return {RunStatus::failed, loaded_engine.why_not, 0, {}, 0, std::nullopt};
         return loaded_engine.engine->run_unrecorded(s);
     }
 

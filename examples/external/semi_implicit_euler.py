@@ -8,6 +8,10 @@ for Python's start-up or its printing), and its settings as JSON to the
 file `settings_file` names. Python 3 standard library only.
 
     bouncecheck run --external 'semi-implicit=python3 /abs/path/semi_implicit_euler.py'
+    bouncecheck stress --external-session 'semi-implicit=python3 /abs/path/semi_implicit_euler.py --session'
+
+With --session it answers scenario after scenario in one process (one JSON
+scenario per input line), so that Python's start-up is paid once per worker.
 
 The step: v += g*dt, then p += v*dt (the document's reference moves with the
 old velocity first; this one uses the new one). Then the law's damping, per
@@ -42,9 +46,9 @@ def fail(message):
     sys.exit(1)
 
 
-def read_scenario():
+def read_scenario(text):
     try:
-        scenario = json.load(sys.stdin)
+        scenario = json.loads(text)
     except json.JSONDecodeError as e:
         fail(f"standard input is not JSON: {e}")
     if not isinstance(scenario, dict) or scenario.get("protocol") != 1:
@@ -77,8 +81,7 @@ def write_settings(path, substeps):
         json.dump(settings, f, indent=1)
 
 
-def main():
-    sc = read_scenario()
+def run(sc):
     dim = int(sc["dimension"])
     room = [float(x) for x in sc["room"]]
     r = float(sc["radius"])
@@ -155,6 +158,17 @@ def main():
         fail(f"wrote {written} rows, the protocol expects steps + 1 = {steps + 1}")
     out.write("#end " + json.dumps({"step_seconds": step_seconds}) + "\n")
     out.flush()
+
+
+def main():
+    if "--session" in sys.argv[1:]:
+        # Sessions (docs/external.md): one scenario per line, each answered
+        # with header, rows and the #end line, until standard input ends.
+        for line in sys.stdin:
+            if line.strip():
+                run(read_scenario(line))
+    else:
+        run(read_scenario(sys.stdin.read()))
 
 
 if __name__ == "__main__":
