@@ -1,5 +1,7 @@
 #include "simulators/stream_contacts.h"
 
+#include <algorithm>
+
 namespace bouncecheck {
 
 StreamContactDetector::StreamContactDetector(const Scenario& s)
@@ -14,10 +16,12 @@ ContactMask StreamContactDetector::contacts_of(const State& previous, const Stat
         const bool reversed_down = previous.v[i] < -min_impact_speed_ && current.v[i] >= 0;
         const bool reversed_up = previous.v[i] > min_impact_speed_ && current.v[i] <= 0;
         // Near enough to have touched during the step: one step of travel at
-        // the incoming speed, plus a tenth of the radius for contact margins.
+        // the incoming speed, plus a tenth of the radius for contact margins,
+        // from the nearer of the two samples.
         const double reach = std::abs(previous.v[i]) * dt_ + 0.1 * radius_;
-        if (reversed_down && current.p[i] - radius_ <= reach) mask.lower |= 1u << i;
-        if (reversed_up && room_[i] - radius_ - current.p[i] <= reach) mask.upper |= 1u << i;
+        const double low = std::min(previous.p[i], current.p[i]), high = std::max(previous.p[i], current.p[i]);
+        if (reversed_down && low - radius_ <= reach) mask.lower |= 1u << i;
+        if (reversed_up && room_[i] - radius_ - high <= reach) mask.upper |= 1u << i;
     }
     return mask;
 }

@@ -12,9 +12,10 @@ namespace bouncecheck {
 
 // Contacts seen in a stream of states: a wall contact is counted when the
 // normal velocity component turns from moving into the wall (faster than a
-// noise floor of 1% of |g| dt) to not moving into it, while the ball is within
-// `reach` of touching that wall. `reach` allows for the engine's contact
-// margin and one step of travel.
+// noise floor of 1% of |g| dt) to not moving into it, while the ball is
+// within `reach` of touching that wall at either sample. `reach` allows for
+// the engine's contact margin and one step of travel (an engine with
+// speculative contacts turns the ball up to a step before the wall).
 class StreamContactDetector {
 public:
     explicit StreamContactDetector(const Scenario& s);
