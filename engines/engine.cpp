@@ -16,6 +16,13 @@ double max_ball_speed(const Scenario& s) {
     return std::sqrt(v2);
 }
 
+Setting tangential_unset_setting() {
+    return {"tangential_model_chosen", "friction with mu = 0: frictionless, beta = 1 (none given)",
+            "the scenario gives neither tangential_model nor friction: the law's beta is not followed, and "
+            "the damping verdict's tangential loss fails wherever contacts slide; set [engines.<name>] "
+            "friction (bouncecheck calibrate) or tangential_model = \"per-contact\""};
+}
+
 std::vector<Wall> room_walls(const Scenario& s) {
     std::vector<Wall> walls;
     for (int axis = 0; axis < s.dim; ++axis) {
@@ -80,12 +87,7 @@ RunOutcome EngineSimulator::run(const Scenario& s, RunSink& sink) const {
     out.run_seconds = timed_seconds([&] {
         const SteppedWorld built = build_stepped_world(s, out.settings);
         const int substeps = built.substeps;
-        if (s.engine_options(std::string(name())).tangential_unset)
-            out.settings.push_back(
-                {"tangential_model_chosen", "friction with mu = 0: frictionless, beta = 1 (none given)",
-                 "the scenario gives neither tangential_model nor friction: the law's beta is not followed, and "
-                 "the damping verdict's tangential loss fails wherever contacts slide; set [engines.<name>] "
-                 "friction (bouncecheck calibrate) or tangential_model = \"per-contact\""});
+        if (s.engine_options(std::string(name())).tangential_unset) out.settings.push_back(tangential_unset_setting());
         out.settings.push_back(
             {"substeps", fmt::format("{} engine step{} of {} s per scenario step", substeps,
                                      substeps == 1 ? "" : "s", built.engine_dt),

@@ -64,6 +64,10 @@ std::vector<Wall> room_walls(const Scenario& s);
 // walls, unit scales and contact stiffness from it.
 double max_ball_speed(const Scenario& s);
 
+// The setting every engine's run shows when its scenario gave neither
+// tangential_model nor friction (EngineOptions::tangential_unset).
+Setting tangential_unset_setting();
+
 // The law's contact condition for the per-contact hooks, at a wall the ball
 // has just started touching (side -1 lower, +1 upper; normal components
 // along the wall's axis): the ball moves into the wall, or rests against it

@@ -39,6 +39,11 @@ fs::path engine_module_dir() {
     return dir;
 }
 
+fs::path node_engine_dir() {
+    if (fs::path installed = beside_binary(kInstalledNodeEngineDir); !installed.empty()) return installed;
+    return BOUNCECHECK_NODE_ENGINE_SOURCE_DIR;
+}
+
 fs::path bundled_scenario_dir() {
     if (const char* dir = std::getenv("BOUNCECHECK_SCENARIOS")) return dir;
     if (fs::path installed = beside_binary(kInstalledScenarioDir); !installed.empty()) return installed;

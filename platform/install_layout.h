@@ -6,8 +6,10 @@
 //   PREFIX/bin/bouncecheck
 //   PREFIX/lib/bouncecheck/engines/bouncecheck-engine-<folder>.so
 //   PREFIX/share/bouncecheck/scenarios/*.toml
+//   PREFIX/lib/bouncecheck/node/<name>.mjs, host/, node_modules/
 //
-//   build/bouncecheck, build/engines/*.so, and the source's scenarios/.
+//   build/bouncecheck, build/engines/*.so, and the source's scenarios/ and
+//   engines/node/.
 #pragma once
 
 #include <filesystem>
@@ -17,6 +19,7 @@ namespace bouncecheck {
 // Relative to the binary's folder: the layout `cmake --install` writes.
 inline constexpr const char* kInstalledEngineDir = "../lib/bouncecheck/engines";
 inline constexpr const char* kInstalledScenarioDir = "../share/bouncecheck/scenarios";
+inline constexpr const char* kInstalledNodeEngineDir = "../lib/bouncecheck/node";
 
 // The folder of the running program (/proc/self/exe, links resolved); empty
 // if the kernel does not say.
@@ -27,6 +30,11 @@ std::filesystem::path executable_dir();
 // else the folder this build wrote them to (for the build's own test and
 // benchmark programs, which live in sub-folders of the build).
 std::filesystem::path engine_module_dir();
+
+// The Node-hosted engines' files (engines/node/: one per engine, the shared
+// host, the npm packages): the installed layout beside the binary if it is
+// there, else the source tree's.
+std::filesystem::path node_engine_dir();
 
 // The bundled scenarios: $BOUNCECHECK_SCENARIOS if set, else the installed
 // layout beside the binary if it is there, else the source tree's.

@@ -24,6 +24,9 @@
 #ifdef BOUNCECHECK_WITH_DART
 #include "engines/dart/dart_adapter.h"
 #endif
+#ifdef BOUNCECHECK_WITH_NODE_ENGINES
+#include "registry/node_engines.h"
+#endif
 
 namespace bouncecheck {
 
@@ -69,6 +72,9 @@ std::vector<std::unique_ptr<const Simulator>> built_simulators() {
     all.push_back(make_exact_simulator());
     for (const BuiltEngine& engine : kBuiltEngines)
         if (engine.identity) all.push_back(engine_in_module(*engine.identity, engine.folder));
+#ifdef BOUNCECHECK_WITH_NODE_ENGINES
+    for (auto& hosted : make_node_engine_simulators()) all.push_back(std::move(hosted));
+#endif
     return all;
 }
 

@@ -494,9 +494,10 @@ void read_collision_options(const toml::table& engine, const std::string& path, 
     if (const toml::node* node = c.get(engine, path, "ccd", false)) {
         if (const auto* flag = node->as_boolean()) {
             options.ccd = flag->get();
-            static constexpr std::array<std::pair<std::string_view, std::string_view>, 6> kWithoutCcd{
+            static constexpr std::array<std::pair<std::string_view, std::string_view>, 7> kWithoutCcd{
                 {{"ode", "ODE"},
                  {"mujoco", "MuJoCo"},
+                 {"mujoco3", "MuJoCo"},
                  {"chipmunk", "Chipmunk"},
                  {"siconos", "Siconos"},
                  {"siconos-ed", "Siconos"},
@@ -634,6 +635,22 @@ std::map<std::string, EngineOptions> read_engines(const toml::table& root, Check
             continue;
         }
         c.watch_table(*engine, path);
+        if (is_hosted_engine(name)) {  // the engine's own keys: passed on as written
+            toml::table own;
+            for (const std::string_view key : hosted_engine_keys(name)) {
+                const toml::node* node = c.get(*engine, path, key, false);
+                if (!node) continue;
+                const auto scalar = [](const toml::node& n) { return n.is_string() || n.is_number() || n.is_boolean(); };
+                const toml::array* list = node->as_array();
+                if (scalar(*node) || (list && std::all_of(list->begin(), list->end(), scalar)))
+                    own.insert(key, *node);
+                else
+                    c.report(start_of(*node), child_key(path, key),
+                             fmt::format("expected a string, a number, a boolean or an array of them, got {}",
+                                         type_name(*node)));
+            }
+            if (!own.empty()) passthrough[name] = toml_to_json(own);
+        }
         EngineOptions options;
         options.tangential_unset = !engine->contains("tangential_model") && !engine->contains("friction");
         if (const auto* model = c.string(*engine, "tangential_model", false, path)) {
@@ -906,6 +923,52 @@ Scenario parse_scenario(std::string_view toml_text, const std::string& file_name
 
 Scenario load_scenario(const std::filesystem::path& file, const std::vector<std::string>& external_names) {
     return guarded(file.string(), [&] { return load_unguarded(file, external_names); });
+}
+
+namespace {
+
+// Each Node-hosted engine's own keys: the same list as its file's ownKeys
+// (engines/node/<name>.mjs; tests/test_node_engines.cpp holds them equal).
+struct HostedEngine {
+    std::string_view name;
+    std::span<const std::string_view> keys;
+};
+constexpr std::string_view kRapierKeys[] = {"wall_restitution", "restitution_combine", "wall_friction",
+    "friction_combine", "sleeping", "linear_damping", "angular_damping", "timestep", "solver_iterations",
+    "pgs_iterations", "prediction_distance", "allowed_linear_error", "length_unit", "soft_ccd_prediction",
+    "max_ccd_substeps"};
+constexpr std::string_view kJoltKeys[] = {"min_velocity_for_restitution", "linear_damping", "angular_damping",
+    "allow_sleeping", "penetration_slop", "speculative_contact_distance", "baumgarte", "velocity_steps",
+    "position_steps", "max_linear_velocity", "max_angular_velocity", "wall_friction", "wall_restitution",
+    "linear_cast_threshold", "linear_cast_max_penetration", "body_pair_cache", "ball_mass"};
+constexpr std::string_view kPhysxKeys[] = {"bounce_threshold", "solver", "restitution_combine", "friction_combine",
+    "contact_offset", "rest_offset", "ccd_max_separation", "sleep_threshold", "linear_damping", "angular_damping",
+    "max_angular_velocity", "iterations", "inner_steps"};
+constexpr std::string_view kHavokKeys[] = {"ideal_step_time", "linear_damping", "angular_damping", "always_active",
+    "max_linear_velocity", "max_angular_velocity", "wall_friction", "wall_restitution", "friction_combine",
+    "restitution_combine"};
+constexpr std::string_view kBox2d3Keys[] = {"restitution_threshold", "wall_restitution", "wall_friction", "sleeping",
+    "substep_count", "contact_hertz", "contact_damping_ratio", "contact_push_speed", "linear_damping",
+    "angular_damping"};
+constexpr std::string_view kMujoco3Keys[] = {"solref", "solimp", "damper_anchor", "impedance_correction", "condim",
+    "wall_friction", "cone", "integrator", "timestep", "gravity", "impratio", "noslip_iterations", "margin",
+    "ball_mass", "beta_hook", "fail_on_warning", "inner_steps"};
+constexpr HostedEngine kHostedEngines[] = {
+    {"rapier", kRapierKeys}, {"jolt", kJoltKeys},     {"physx", kPhysxKeys},
+    {"havok", kHavokKeys},   {"box2d3", kBox2d3Keys}, {"mujoco3", kMujoco3Keys},
+};
+
+}  // namespace
+
+std::span<const std::string_view> hosted_engine_keys(std::string_view engine) {
+    for (const HostedEngine& hosted : kHostedEngines)
+        if (hosted.name == engine) return hosted.keys;
+    return {};
+}
+
+bool is_hosted_engine(std::string_view engine) {
+    return std::any_of(std::begin(kHostedEngines), std::end(kHostedEngines),
+                       [&](const HostedEngine& hosted) { return hosted.name == engine; });
 }
 
 std::span<const std::string_view> built_in_engines() {

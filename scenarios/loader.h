@@ -52,9 +52,18 @@ inline constexpr double kMaxSteps = 1e12;
 // file validates the same on every build): a scenario's [thresholds.<name>]
 // may name one, and an external simulator may not take one's name. The
 // engines are all of them but the first two.
-inline constexpr std::array<std::string_view, 10> kBuiltInSimulators{
-    "reference", "exact", "bullet", "ode", "box2d", "mujoco", "chipmunk", "siconos", "siconos-ed", "dart"};
+inline constexpr std::array<std::string_view, 16> kBuiltInSimulators{
+    "reference", "exact",  "bullet", "ode",   "box2d", "mujoco", "chipmunk", "siconos", "siconos-ed", "dart",
+    "rapier",    "jolt",   "physx",  "havok", "box2d3", "mujoco3"};
 std::span<const std::string_view> built_in_engines();
+
+// The engines hosted by Node (engines/node/<name>.mjs, docs/engines.md):
+// their [engines.<name>] tables may hold, besides the shared keys, the
+// engine's own (each a string, number or boolean, or a flat array of them),
+// passed on as written;
+// the engine's file refuses a value it cannot use. Empty for any other engine.
+std::span<const std::string_view> hosted_engine_keys(std::string_view engine);
+bool is_hosted_engine(std::string_view engine);
 
 // Why `name` cannot name a scenario or an external simulator (it becomes a
 // folder or a file name): nothing if it can.

@@ -61,14 +61,20 @@ PACKAGES+=(ca-certificates)
 
 "$ROOT/scripts/packages.sh" "${PACKAGES[@]}"
 
-# web/node_modules from the lock file, again only when the lock file changed.
-WEB="$ROOT/web"
-lock_hash="$(sha256sum "$WEB/package-lock.json" | cut -d' ' -f1)"
-if [ "$(cat "$WEB/node_modules/.bouncecheck-lock" 2>/dev/null)" != "$lock_hash" ]; then
-  echo "setup: npm ci in web/"
-  (cd "$WEB" && npm ci --no-audit --no-fund --loglevel=error)
-  echo "$lock_hash" > "$WEB/node_modules/.bouncecheck-lock"
-fi
+# node_modules from each lock file, again only when the lock file changed:
+# web/ (the charting library) and, unless the build leaves them out,
+# engines/node/ (the WebAssembly engines, pinned exactly).
+npm_ci() {
+  local folder="$1" lock_hash
+  lock_hash="$(sha256sum "$folder/package-lock.json" | cut -d' ' -f1)"
+  if [ "$(cat "$folder/node_modules/.bouncecheck-lock" 2>/dev/null)" != "$lock_hash" ]; then
+    echo "setup: npm ci in ${folder#"$ROOT"/}/"
+    (cd "$folder" && npm ci --no-audit --no-fund --loglevel=error)
+    echo "$lock_hash" > "$folder/node_modules/.bouncecheck-lock"
+  fi
+}
+npm_ci "$ROOT/web"
+engine_enabled NODE_ENGINES "$@" && npm_ci "$ROOT/engines/node"
 
 mkdir -p "$BUILD_DIR"
 cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE="${BUILD_TYPE:-Release}" "$@" > "$BUILD_DIR/configure.log" 2>&1 \

@@ -401,7 +401,9 @@ TEST(ScenarioLoaderInvalid, ThresholdTableRejectsUnknownKeys) {
 
 TEST(ScenarioLoaderInvalid, ThresholdUnknownSimulator) {
     EXPECT_TRUE(single_error(std::string(kValid) + "[thresholds.warp]\ntrajectory_rms = 0.1\n", "thresholds.warp", 16,
-                             13, "unknown simulator (known: reference, exact, bullet, ode, box2d, mujoco, chipmunk, siconos, siconos-ed, dart)"));
+                             13,
+                             "unknown simulator (known: reference, exact, bullet, ode, box2d, mujoco, chipmunk, siconos, "
+                             "siconos-ed, dart, rapier, jolt, physx, havok, box2d3, mujoco3)"));
     EXPECT_TRUE(single_error(std::string(kValid) + "[thresholds]\nBullet = {trajectory_rms = 0.1}\n",
                              "thresholds.Bullet", 17, 1, "unknown simulator"));
 }
@@ -668,7 +670,7 @@ TEST(ScenarioLoaderInvalidFiles, Thresholds) {
     EXPECT_TRUE(has_error(errors, "thresholds.ode", 27, 7, "expected a table, got an integer"));
     EXPECT_TRUE(has_error(errors, "thresholds.bullet.trajectory_rms", 30, 18, "expected a number, got a string"));
     EXPECT_TRUE(has_error(errors, "thresholds.bullet.tolerance", 31, 1, "unknown key"));
-    EXPECT_TRUE(has_error(errors, "thresholds.havok", 33, 13, "unknown simulator"));
+    EXPECT_TRUE(has_error(errors, "thresholds.warpdrive", 33, 13, "unknown simulator"));
 }
 
 TEST(ScenarioLoaderInvalidFiles, NonFinite) {

@@ -1,0 +1,235 @@
+// The one module every Node-hosted engine shares: protocol
+// bouncecheck-external/1 (docs/external.md), in both of its modes, and the
+// stepping loop. An engine file (engines/node/<name>.mjs) only loads its
+// package and builds its world; this module reads the scenario, steps the
+// world on the document's clock, writes the rows, times the engine's own
+// steps for the `#end` line, and writes the settings.
+//
+//   node <name>.mjs              one scenario on stdin (read to its end)
+//   node <name>.mjs --session    one scenario per line, each answered with
+//                                header, rows and `#end`; the engine's
+//                                package is loaded once for them all
+//
+// An engine file exports an object:
+//   name          the simulator's name
+//   dimensions    [2, 3], [3] or [2]
+//   precision     "f32" or "f64": the engine's arithmetic
+//   packages(d)   the npm packages the engine uses in dimension d
+//   ownKeys       { key: "what it does" }: the [engines.<name>] keys it reads
+//                 besides the shared ones (tangential_model, friction,
+//                 rotation, substeps, ccd)
+//   load(d)       (async) the engine's module, loaded once per process and d
+//   version(lib)  the engine's own version text, if it says one
+//   build(lib, scenario, settings)
+//                 the world for `scenario` (its dt already divided by
+//                 substeps): { step(), read(out), free() }. read() fills a
+//                 Float64Array(2 d) with the centre then the velocity, in
+//                 the scenario's units. Every setting that changes the
+//                 answer goes to settings.add(key, value, why).
+
+import fs from 'node:fs';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+export const PROTOCOL = 1;
+const ROW_CHUNK_BYTES = 1 << 16;  // rows are written in chunks, not one call each
+const MAX_LINE_BYTES = 1 << 20;   // a session's scenario line (a scenario is under 4 KB)
+const SHARED_KEYS = new Set(['tangential_model', 'friction', 'rotation', 'substeps', 'ccd']);
+
+const nodeFolder = path.dirname(path.dirname(fileURLToPath(import.meta.url)));
+
+// The version npm installed of `name` (engines/node/node_modules, pinned by
+// engines/node/package-lock.json).
+export function packageVersion(name) {
+  const file = path.join(nodeFolder, 'node_modules', name, 'package.json');
+  return JSON.parse(fs.readFileSync(file, 'utf8')).version;
+}
+
+// A failure the harness shows as the row's reason: its last stderr lines.
+export class ScenarioError extends Error {}
+
+// The settings of one run, written to the harness's settings file.
+export class Settings {
+  constructor() { this.list = []; }
+  add(key, value, why = '') { this.list.push({ key, value, why }); }
+}
+
+// ---- What the law and the room give every adapter (as engines/engine.h) ----
+
+// The room's walls: the plane x[axis] = offset, side -1 (lower) or +1 (upper).
+export function roomWalls(s) {
+  const walls = [];
+  for (let axis = 0; axis < s.dimension; ++axis) {
+    walls.push({ axis, side: -1, offset: 0 });
+    walls.push({ axis, side: +1, offset: s.room[axis] });
+  }
+  return walls;
+}
+
+// The fastest the ball can ever move: its start speed plus the whole room to
+// fall along every axis (the law never adds energy).
+export function maxBallSpeed(s) {
+  let v2 = 0;
+  for (let i = 0; i < s.dimension; ++i) v2 += s.velocity[i] ** 2 + 2 * Math.abs(s.gravity[i]) * s.room[i];
+  return Math.sqrt(v2);
+}
+
+// The law's contact condition at a wall the ball has just started touching:
+// it moves into the wall, or rests against it while gravity presses it in.
+export function movesIntoWall(normalVelocity, normalGravity, side) {
+  return normalVelocity * side > 0 || (normalVelocity === 0 && normalGravity * side > 0);
+}
+
+// Per-contact mode for an engine whose hook fires after its step (or that
+// has none): `touching` is, per wall of roomWalls(s), whether the engine
+// holds a contact with it after this step. A wall touched now and not
+// before starts a contact; if the ball was moving into it at the start of
+// the step (`before`, the velocity then), every velocity component normal
+// to none of the starting walls is scaled by beta, once. Returns the
+// scaled velocity, or null if no contact started.
+export class ContactStarts {
+  constructor(s) {
+    this.s = s;
+    this.walls = roomWalls(s);
+    this.was = new Array(this.walls.length).fill(false);
+  }
+  // Which walls start a contact the law counts, given this step's touching.
+  starting(touching, before) {
+    const axes = [];
+    for (let w = 0; w < this.walls.length; ++w) {
+      const { axis, side } = this.walls[w];
+      if (touching[w] && !this.was[w] && movesIntoWall(before[axis], this.s.gravity[axis], side)) axes.push(axis);
+      this.was[w] = touching[w];
+    }
+    return axes;
+  }
+  // `velocity` with every component off the `axes` scaled by beta.
+  scaled(velocity, axes) {
+    const out = Array.from(velocity);
+    for (let i = 0; i < this.s.dimension; ++i) if (!axes.includes(i)) out[i] *= this.s.beta;
+    return out;
+  }
+}
+
+// ---- The scenario and the [engines.<name>] table ----
+
+function fail(message) { throw new ScenarioError(message); }
+
+// The scenario as the harness wrote it, with `engine` holding the shared
+// options (defaults filled in) and the engine's own keys. An unknown key
+// fails the run: a typo must not silently leave a default in place.
+function readScenario(text, adapter) {
+  let s;
+  try { s = JSON.parse(text); } catch (e) { fail(`the scenario is not JSON: ${e.message}`); }
+  if (!s || typeof s !== 'object' || s.protocol !== PROTOCOL) fail('expected a JSON object with "protocol": 1');
+  if (!adapter.dimensions.includes(s.dimension)) fail(`${adapter.name} cannot run a ${s.dimension}D scenario`);
+  const given = s.engine && typeof s.engine === 'object' ? s.engine : {};
+  for (const key of Object.keys(given))
+    if (!SHARED_KEYS.has(key) && !(key in adapter.ownKeys))
+      fail(`[engines.${adapter.name}] has no key "${key}" (its own keys: ${Object.keys(adapter.ownKeys).join(', ') || 'none'})`);
+  const engine = { tangential_model: 'friction', friction: 0, rotation: 'free', substeps: 1, ...given };
+  if (!Number.isInteger(engine.substeps) || engine.substeps < 1) fail(`[engines.${adapter.name}] substeps must be an integer >= 1`);
+  return { ...s, engine };
+}
+
+// ---- The run ----
+
+function writeAll(text) {
+  const bytes = Buffer.from(text);
+  let done = 0;
+  while (done < bytes.length) {
+    try { done += fs.writeSync(1, bytes, done); } catch (e) { if (e.code !== 'EAGAIN') throw e; }
+  }
+}
+
+const loaded = new Map();  // dimension -> the engine's module, loaded once per process
+async function libraryFor(adapter, dimension) {
+  if (!loaded.has(dimension)) loaded.set(dimension, await adapter.load(dimension));
+  return loaded.get(dimension);
+}
+
+async function runScenario(adapter, text) {
+  const s = readScenario(text, adapter);
+  const lib = await libraryFor(adapter, s.dimension);
+  const d = s.dimension;
+  const substeps = s.engine.substeps;
+  const settings = new Settings();
+  const packages = adapter.packages(d).map((p) => `${p} ${packageVersion(p)}`).join(', ');
+  const own = adapter.version ? adapter.version(lib, d) : '';
+  settings.add('engine', own ? `${own} (${packages})` : packages, 'the npm package that stepped the run (engines/node/package-lock.json)');
+  settings.add('precision', adapter.precision, adapter.precision === 'f32' ? 'the WebAssembly build computes in 32-bit floats' : '64-bit floats');
+  settings.add('runtime', `Node ${process.versions.node}`, 'the host that ran the engine');
+  settings.add('substeps', `${substeps} engine step${substeps === 1 ? '' : 's'} of ${s.dt / substeps} s per scenario step`,
+    substeps === 1 ? "one engine step per scenario step (the document's step)"
+      : 'scenario [engines.<name>] substeps: shorter engine steps against fast balls and large dt');
+  const world = adapter.build(lib, { ...s, dt: s.dt / substeps }, settings);
+  try {
+    const state = new Float64Array(2 * d);
+    const header = d === 3 ? 't,x,y,z,vx,vy,vz\n' : 't,x,y,vx,vy\n';
+    let out = header + '0,' + s.position.join(',') + ',' + s.velocity.join(',') + '\n';
+    let t = 0;
+    let stepNanoseconds = 0n;
+    const loopStart = process.hrtime.bigint();
+    for (let k = 0; k < s.steps; ++k) {
+      const start = process.hrtime.bigint();
+      for (let i = 0; i < substeps; ++i) world.step();
+      stepNanoseconds += process.hrtime.bigint() - start;
+      world.read(state);
+      t += s.dt;  // the document's clock: partial sums of dt
+      out += t + ',' + state.join(',') + '\n';
+      if (out.length >= ROW_CHUNK_BYTES) { writeAll(out); out = ''; }
+    }
+    const loopSeconds = Number(process.hrtime.bigint() - loopStart) / 1e9;
+    // The settings file first: the harness reads it once it has read `#end`.
+    fs.writeFileSync(s.settings_file, JSON.stringify(settings.list));
+    writeAll(out + `#end ${JSON.stringify({ step_seconds: Number(stepNanoseconds) / 1e9, loop_seconds: loopSeconds })}\n`);
+  } finally {
+    world.free?.();
+  }
+}
+
+// Reads fd 0 line by line, blocking: a session's scenarios arrive one per line.
+function* lines() {
+  const buffer = Buffer.alloc(1 << 16);
+  let pending = Buffer.alloc(0);
+  for (;;) {
+    let n;
+    try { n = fs.readSync(0, buffer, 0, buffer.length, null); } catch (e) {
+      if (e.code === 'EAGAIN') continue;
+      if (e.code === 'EOF') n = 0; else throw e;
+    }
+    if (n === 0) { if (pending.length) yield pending.toString('utf8'); return; }
+    pending = Buffer.concat([pending, buffer.subarray(0, n)]);
+    let newline;
+    while ((newline = pending.indexOf(10)) >= 0) {
+      yield pending.subarray(0, newline).toString('utf8');
+      pending = pending.subarray(newline + 1);
+    }
+    if (pending.length > MAX_LINE_BYTES) fail(`a scenario line longer than ${MAX_LINE_BYTES} bytes`);
+  }
+}
+
+// What the engine file is, for the harness's tests: its name, dimensions,
+// precision, packages with their installed versions, and own keys.
+function describe(adapter) {
+  const packages = {};
+  for (const d of adapter.dimensions) packages[d] = adapter.packages(d).map((p) => `${p} ${packageVersion(p)}`);
+  return JSON.stringify({ name: adapter.name, dimensions: adapter.dimensions, precision: adapter.precision,
+    packages, ownKeys: Object.keys(adapter.ownKeys) });
+}
+
+// The entry point of every engine file: `await serve(adapter)`.
+export async function serve(adapter) {
+  try {
+    if (process.argv.includes('--describe')) {
+      writeAll(describe(adapter) + '\n');
+    } else if (process.argv.includes('--session')) {
+      for (const line of lines()) if (line.trim()) await runScenario(adapter, line);
+    } else {
+      await runScenario(adapter, fs.readFileSync(0, 'utf8'));
+    }
+  } catch (e) {
+    process.stderr.write(`${adapter.name}: ${e instanceof ScenarioError ? e.message : e.stack || e}\n`);
+    process.exitCode = 1;
+  }
+}
