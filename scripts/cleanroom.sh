@@ -203,8 +203,10 @@ grep -q "^engine modules (/usr/lib/bouncecheck/engines):" list.txt || { cat list
 grep -q "^bundled scenarios (/usr/share/bouncecheck/scenarios):" list.txt || { cat list.txt; exit 1; }
 bouncecheck run --out out > run.txt 2>&1 || { status=$?; cat run.txt; exit $status; }
 ! grep -q "cannot load" run.txt || { cat run.txt; echo "an engine did not load"; exit 1; }
+grep -q "(node: /usr/lib/bouncecheck/node/jolt.mjs)" run.txt && ! grep -q "Node.js is not on PATH\|is missing: run scripts/setup.sh" run.txt \
+  || { cat run.txt; echo "the Node-hosted engines did not run from /usr/lib/bouncecheck/node"; exit 1; }
 test -f out/report.html && test -f /usr/share/man/man1/bouncecheck.1.gz
-echo "installed bouncecheck: every module under /usr/lib/bouncecheck/engines, the bundled run exit 0"'
+echo "installed bouncecheck: every module under /usr/lib/bouncecheck/engines, the Node-hosted engines under /usr/lib/bouncecheck/node, the bundled run exit 0"'
 
 # In the installed root: examples/cmake-consumer built against the package
 # with find_package(bouncecheck CONFIG) alone, its tests run (its wrong toy's

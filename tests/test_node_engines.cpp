@@ -201,7 +201,7 @@ INSTANTIATE_TEST_SUITE_P(Each, NodeEngineBar, ::testing::ValuesIn(bar_cases()),
 
 // What a case measures in a run.
 struct Measure {
-    enum Kind { highest, lowest, first_floor_contact, deepest_beyond_wall, final_vx } kind;
+    enum Kind { highest, lowest, first_floor_contact, deepest_beyond_wall, final_speed_x } kind;
     double from = 0, to = 0;  // highest, lowest: the window of time (s)
 };
 
@@ -272,7 +272,7 @@ double measured(const Measure& m, const Scenario& s, const test::SimulatorRun& r
         }
         case Measure::first_floor_contact: return test::first_floor_event(run.summary, z).value_or(-1);
         case Measure::deepest_beyond_wall: return run.summary.max_penetration;
-        case Measure::final_vx: return run.states.back().v.x();
+        case Measure::final_speed_x: return std::abs(run.states.back().v.x());
     }
     return std::nan("");
 }
@@ -344,15 +344,15 @@ const DefaultCase kJoltHavokCases[] = {
      0.0494, 0.0506, 0.055, kInf, "speculative contacts bounce the ball 8 mm above the floor, a step early"},
     {"jolt", "seed-3d", 1e-3, kSeed3dMu, R"({"wall_friction": 0.2})", {Measure::highest, 6, 11}, 0.455, 0.47, 0,
      0.445, "Jolt's default friction 0.2 on the walls, combined by geometric mean, makes mu 0.033"},
-    {"jolt", "slide", 1e-3, 0, R"({"allow_sleeping": true})", {Measure::final_vx}, 0.0199, 0.0201, -1e-12, 1e-12,
+    {"jolt", "slide", 1e-3, 0, R"({"allow_sleeping": true})", {Measure::final_speed_x}, 0.0199, 0.0201, -1e-12, 1e-12,
      "the sliding ball falls asleep at 0.5 s"},
-    {"jolt", "slide", 1e-3, 0, R"({"body_pair_cache": true})", {Measure::final_vx}, 0.0199, 0.0201, 0.1, kInf,
+    {"jolt", "slide", 1e-3, 0, R"({"body_pair_cache": true})", {Measure::final_speed_x}, 0.0199, 0.0201, 0.1, kInf,
      "the body-pair contact cache spins a frictionless sliding ball up"},
-    {"jolt", "roll-0.1", 1e-3, 0.5, R"({"angular_damping": 0.05})", {Measure::final_vx}, 0.7107, 0.7179, 0, 0.69,
+    {"jolt", "roll-0.1", 1e-3, 0.5, R"({"angular_damping": 0.05})", {Measure::final_speed_x}, 0.7107, 0.7179, 0, 0.69,
      "Jolt's default angular damping slows the rolling ball"},
-    {"jolt", "roll-0.01", 1e-3, 0.5, R"({"max_angular_velocity": 47.12388980384689})", {Measure::final_vx}, 0.71,
+    {"jolt", "roll-0.01", 1e-3, 0.5, R"({"max_angular_velocity": 47.12388980384689})", {Measure::final_speed_x}, 0.71,
      0.7179, 0, 0.5, "Jolt's spin limit caps a 1 cm ball's rolling at 0.47 m/s"},
-    {"jolt", "roll-0.01", 1e-3, 0.5, R"({"ball_mass": 0.0041887902047863905})", {Measure::final_vx}, 0.71, 0.7179, 0,
+    {"jolt", "roll-0.01", 1e-3, 0.5, R"({"ball_mass": 0.0041887902047863905})", {Measure::final_speed_x}, 0.71, 0.7179, 0,
      0.01, "Jolt's near-zero-inertia fallback gives a 1 cm ball a 1 m sphere's inertia: it slides to a stop"},
     // Havok
     {"havok", "seed-3d", 1e-3, kPerContact, R"({"wall_restitution": 0})", {Measure::highest, 6, 11}, 0.45, 0.47, 0,
@@ -363,11 +363,39 @@ const DefaultCase kJoltHavokCases[] = {
      -1.5, -0.5, "Havok puts the slow ball to sleep mid-air at 1.7 s: it never reaches the floor"},
     {"havok", "seed-3d", 1e-3, kSeed3dMu, R"({"wall_friction": 0.5})", {Measure::highest, 6, 11}, 0.45, 0.47, 0,
      0.43, "Havok's default friction 0.5 on the walls"},
-    {"havok", "roll-0.1", 1e-3, 0.5, R"({"angular_damping": 0.1})", {Measure::final_vx}, 0.7104, 0.7176, 0, 0.66,
+    {"havok", "roll-0.1", 1e-3, 0.5, R"({"angular_damping": 0.1})", {Measure::final_speed_x}, 0.7104, 0.7176, 0, 0.66,
      "Havok's default angular damping 0.1 slows the rolling ball"},
-    {"havok", "roll-0.005", 1e-3, 0.5, R"({"max_angular_velocity": 100})", {Measure::final_vx}, 0.71, 0.7176, 0,
+    {"havok", "roll-0.005", 1e-3, 0.5, R"({"max_angular_velocity": 100})", {Measure::final_speed_x}, 0.71, 0.7176, 0,
      0.55, "Havok's 100 rad/s spin limit caps a 5 mm ball's rolling"},
 };
+
+const DefaultCase kRapierBox2d3Cases[] = {
+    // Rapier
+    {"rapier", "seed-2d", 1e-3, kPerContact, R"({"wall_restitution": 0})", {Measure::highest, 5, 10.5}, 0.6155, 0.6217,
+     0, 0.25, "Rapier averages the two colliders' restitution: walls at 0 give alpha / 2"},
+    {"rapier", "seed-2d", 1e-3, kPerContact, R"({"wall_friction": 0.5})", {Measure::highest, 5, 10.5}, 0.6155, 0.6217, 0,
+     0.56, "Rapier's default friction 0.5 on the walls, averaged with the ball's 0, grips the per-contact ball"},
+    {"rapier", "seed-2d", 1e-3, kPerContact, R"({"sleeping": true})", {Measure::lowest, 26, 50}, 0.049, 0.0505, 0.1,
+     0.2, "the slow ball falls asleep mid-air at 25.8 s, 0.14 m up"},
+    {"rapier", "seed-2d", 1e-3, kPerContact, R"({"timestep": 0.016666666666666666})", {Measure::first_floor_contact},
+     4.28, 4.31, 0, 1, "Rapier's own 1/60 s step instead of the scenario's dt: time runs 16.7 times fast"},
+    {"rapier", "seed-2d", 0.03, kPerContact, R"({"prediction_distance": 0.02})", {Measure::highest, 12, 16}, 0.401,
+     0.4036, 0, 0.399, "a contact predicted 2 cm out bounces the ball up to a solver substep early"},
+    {"rapier", "seed-2d", 0.03, kPerContact, R"({"soft_ccd_prediction": 0})", {Measure::deepest_beyond_wall}, 0,
+     0.0005, 0.003, kInf, "without soft CCD the contact comes a step late: the ball lands a step's travel inside"},
+    // Box2D v3
+    {"box2d3", "seed-2d", 1e-3, kPerContact, R"({"restitution_threshold": 1.0})", {Measure::highest, 5, 10.5}, 0.6153,
+     0.6215, 0, 0.06, "Box2D's 1 m/s restitution threshold is above every impact of the seed: no bounce"},
+    {"box2d3", "seed-2d", 1e-3, 0.004, R"({"wall_friction": 0.6})", {Measure::highest, 5, 10.5}, 0.6194, 0.6256, 0,
+     0.60, "Box2D's default friction 0.6 on the walls, combined by geometric mean, makes mu 0.049"},
+    {"box2d3", "seed-2d", 1e-3, kPerContact, R"({"sleeping": true})", {Measure::final_speed_x}, 0.0438, 0.0484, 0,
+     1e-12, "the ball sliding on the floor falls asleep at 48.5 s"},
+    {"box2d3", "seed-2d", 1e-3, kPerContact, R"({"wall_restitution": 0})", {Measure::highest, 5, 10.5}, 0.6153,
+     0.6215, 0.6153, 0.6215, "nothing: Box2D combines restitution by the larger, the ball's alpha"},
+};
+
+INSTANTIATE_TEST_SUITE_P(RapierBox2d3, NodeEngineDefault, ::testing::ValuesIn(kRapierBox2d3Cases),
+                         [](const auto& info) { return fmt::format("{}_{}", info.param.engine, info.index); });
 
 INSTANTIATE_TEST_SUITE_P(JoltHavok, NodeEngineDefault, ::testing::ValuesIn(kJoltHavokCases), [](const auto& info) {
     return fmt::format("{}_{}", info.param.engine, info.index);

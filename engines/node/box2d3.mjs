@@ -22,55 +22,11 @@
 //
 // Per-contact mode: the pre-solve callback (b2World_SetPreSolveCallback, on
 // the ball's shape only) records which walls the engine holds a contact with
-// this step; after the step, TurnedContacts (below) counts the law's contact
+// this step; after the step, TurnedContacts (host/protocol.mjs) counts the law's contact
 // in the step in which the ball stops moving into such a wall, and the other
 // velocity component is scaled by beta then, once.
 
-import { serve, ScenarioError, roomWalls, movesIntoWall } from './host/protocol.mjs';
-
-// Per-contact mode after the step, for an engine whose contacts begin before
-// the impact (speculative contacts) and may outlive it: a wall contact the
-// engine starts while the ball moves into the wall (or rests on it, pressed by
-// gravity) arms that wall; so does a new approach within a contact the engine
-// kept (the ball moved away from the wall faster than a step of gravity, then
-// back into it: a bounce lower than the engine's contact margin). The law's
-// contact is the step in which the ball then stops moving into the wall (the
-// engine turned it), and only then are the other components scaled by beta,
-// once. A contact that ends unturned (a near miss) is dropped. So beta lands in
-// the step in which the engine bounces the ball, where the harness measures it
-// (protocol.mjs's ContactStarts scales at the contact's start, which here comes
-// up to a few steps early, and never again while the engine keeps the contact).
-// A copy of rapier.mjs's class.
-class TurnedContacts {
-  constructor(s) {
-    this.s = s;
-    this.walls = roomWalls(s);
-    this.was = new Array(this.walls.length).fill(false);
-    this.armed = new Array(this.walls.length).fill(false);
-    this.away = new Array(this.walls.length).fill(false);
-    this.eps = Math.hypot(...s.gravity) * s.dt;  // a step of gravity
-    this.axes = [];
-  }
-  // `touching`: per wall, whether the engine holds a contact in this step;
-  // `before`, `after`: the ball's velocity at the step's start and end. Returns
-  // the axes whose walls count a contact in this step (empty: none).
-  turned(touching, before, after) {
-    const axes = this.axes;
-    axes.length = 0;
-    for (let w = 0; w < this.walls.length; ++w) {
-      const { axis, side } = this.walls[w];
-      if (touching[w] && (!this.was[w] || this.away[w]) && movesIntoWall(before[axis], this.s.gravity[axis], side)) {
-        this.armed[w] = true;
-        this.away[w] = false;
-      }
-      this.was[w] = touching[w];
-      if (!touching[w]) { this.armed[w] = false; this.away[w] = false; continue; }
-      if (after[axis] * side < -this.eps) this.away[w] = true;
-      if (this.armed[w] && !(after[axis] * side > 0)) { this.armed[w] = false; axes.push(axis); }
-    }
-    return axes;
-  }
-}
+import { serve, ScenarioError, TurnedContacts, roomWalls } from './host/protocol.mjs';
 
 // The package's `compat` build (no SIMD, no threads), loaded by its path: the
 // package's entry point picks its `deluxe` build (SIMD, a pool of 4 pthreads)

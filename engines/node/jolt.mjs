@@ -324,7 +324,7 @@ function build(J, s, settings) {
   add('sleeping', allowSleeping ? 'allowed' : 'off (system and body)', 'Jolt\'s default lets the ball sleep: seed-3d per-contact froze it at 34.82 s while it slid at 0.061 m/s');
   add('penetration_slop', slop, 'overlap the position solve leaves; also the CCD cast\'s allowed penetration, min(slop, 0.25 r). 1% of r; Jolt\'s 0.02 m lets a cast ball end 6.0 mm inside the floor (seed-3d, dt 0.03)' + mark(slop, 'penetration_slop'));
   add('speculative_contact_distance', speculative,
-    'Jolt\'s 0.02 m bounces the ball from where the step starts, up to a step of travel before the wall: seed-3d at dt 0.03 bounces 8.2 mm above the floor (the harness then sees no contact at 5.6 s); a 1 cm ball in a 0.2 m room at dt 1e-3 comes 3.4% high at its third apex' + mark(speculative, 'speculative_contact_distance'));
+    'Jolt\'s 0.02 m bounces the ball from where the step starts, up to a step of travel before the wall: seed-3d at dt 0.03 bounces 8.2 mm above the floor; a 1 cm ball in a 0.2 m room at dt 1e-3 comes 3.4% high at its third apex' + mark(speculative, 'speculative_contact_distance'));
   add('linear_cast_threshold', castThreshold, 'a step that moves the ball more than this fraction of r is cast against the walls (CCD), so no step sinks it deeper than 1% of r; Jolt\'s 0.75 casts no step of seed-3d at dt 0.03 (6.0 mm deep)' + mark(castThreshold, 'linear_cast_threshold'));
   add('linear_cast_max_penetration', castPenetration, 'with the slop, how deep a cast leaves the ball' + mark(castPenetration, 'linear_cast_max_penetration'));
   add('ccd', ccd ? 'LinearCast motion quality' : 'Discrete motion quality (Jolt\'s default)', 'with Discrete, seed-3d at dt 0.03 ends 6.0 mm inside the floor (LinearCast: 0.5 mm)');

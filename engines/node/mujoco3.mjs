@@ -193,12 +193,7 @@ const adapter = {
     const t = tuning(s);
     if (s.engine.ccd === true) throw new ScenarioError('MuJoCo has no continuous collision detection: use substeps');
     const perContact = s.engine.tangential_model === 'per-contact';
-    if (!perContact && s.engine.tangential_model !== 'friction')
-      throw new ScenarioError(`tangential_model must be "friction" or "per-contact" (got ${JSON.stringify(s.engine.tangential_model)})`);
-    if (s.engine.rotation !== 'free' && s.engine.rotation !== 'locked')
-      throw new ScenarioError(`rotation must be "free" or "locked" (got ${JSON.stringify(s.engine.rotation)})`);
-    const mu = perContact ? 0 : s.engine.friction;
-    if (!isNumber(mu) || mu < 0) throw new ScenarioError('friction must be a number >= 0');
+    const mu = perContact ? 0 : s.engine.friction;  // the shared keys are checked by host/protocol.mjs
     const condim = t.condim === 'auto' ? (mu > 0 ? 3 : 1) : t.condim;
     const wallMu = t.wall_friction === 'ball' ? mu : t.wall_friction;
     const freeRotation = s.engine.rotation !== 'locked';

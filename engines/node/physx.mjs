@@ -191,12 +191,7 @@ const adapter = {
     const { px, T, physics, dispatcher } = lib;
     const t = tuning(s);
     const perContact = s.engine.tangential_model === 'per-contact';
-    if (!perContact && s.engine.tangential_model !== 'friction')
-      throw new ScenarioError(`tangential_model must be "friction" or "per-contact" (got ${JSON.stringify(s.engine.tangential_model)})`);
-    if (s.engine.rotation !== 'free' && s.engine.rotation !== 'locked')
-      throw new ScenarioError(`rotation must be "free" or "locked" (got ${JSON.stringify(s.engine.rotation)})`);
-    const mu = perContact ? 0 : s.engine.friction;
-    if (!isNumber(mu) || mu < 0) throw new ScenarioError('friction must be a number >= 0');
+    const mu = perContact ? 0 : s.engine.friction;  // the shared keys are checked by host/protocol.mjs
     const ccd = s.engine.ccd === true;
     const errors = [];
     lib.errors.sink = errors;
@@ -428,7 +423,7 @@ function report(px, s, t, { mu, contactOffset, ccdMaxSeparation, travel, perCont
     perContact ? 'per-contact mode: mu = 0, beta applied after the step that turns the ball' : 'Coulomb mu from [engines] friction on both materials (average, PhysX\'s default, gives mu)');
   add('contact_offset', `${+contactOffset.toPrecision(6)} m per shape (contact distance ${+(2 * contactOffset).toPrecision(6)} m)`,
     `a contact point exists from a separation below the two offsets: the ball turns up to that far before the wall (in the step that would carry it in), or, found later, up to a step's travel inside (largest step travel ${+travel.toPrecision(4)} m). `
-    + 'PhysX\'s default 0.02 per shape: the same first five apexes to 0.1 mm here; at a step\'s travel above r / 10 it lets the ball turn so far out that the stream contact detector misses the bounce');
+    + 'PhysX\'s default 0.02 per shape: the same first five apexes to 0.1 mm here; at a step\'s travel above r / 10 the ball turns up to 4 cm before the wall, a bounce in mid-air');
   add('rest_offset', t.rest_offset, 'PhysX\'s default: the ball rests on the surface');
   add('ccd_max_separation', ccdMaxSeparation, 'a bouncing contact separated by more than this keeps a position bias (the ball approaches by separation / dt first). PhysX\'s default 0.04: no effect while the contact distance is below it');
   add('sleep_threshold', t.sleep_threshold, 'never. PhysX\'s default 5e-5 x speed^2 = 0.005 m^2/s^2: no effect here (the run is bit-identical): PhysX sums the velocity over its sleep window, so a sliding ball never sleeps; one resting in place freezes after 0.4 s');
