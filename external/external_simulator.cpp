@@ -159,7 +159,7 @@ public:
         const auto on_output = [&](std::string_view bytes) { return reader.feed(bytes, rows); };
         ProgramEnd end;
         if (declaration_.session) {
-            out.run_seconds = timed_seconds([&] { end = exchange(s.source.parent_path(), input, on_output, reader, out); });
+            out.run_seconds = timed_seconds([&] { end = exchange(s.source.parent_path(), input, on_output, reader); });
         } else {
             ProgramRequest request;
             request.argv = declaration_.command;
@@ -212,8 +212,7 @@ private:
     // else has ended it (ProgramSession::exchange), and the row is judged
     // as a one-shot program's would be.
     ProgramEnd exchange(const fs::path& cwd, const std::string& input,
-                        const std::function<bool(std::string_view)>& on_output, const TrajectoryReader& reader,
-                        RunOutcome& out) const {
+                        const std::function<bool(std::string_view)>& on_output, const TrajectoryReader& reader) const {
         std::unique_ptr<ProgramSession> session = sessions_.take(cwd);
         bool reused = session != nullptr;
         for (;;) {
@@ -231,11 +230,6 @@ private:
                 reused = false;
                 continue;
             }
-            out.settings.push_back({"session", reused ? "reused" : "started",
-                                    reused ? "the program's process answered an earlier scenario: no start-up in "
-                                             "this run"
-                                           : "a new process for this run: its start-up is in this run's "
-                                             "outside_step_seconds"});
             if (ended) return *ended;
             sessions_.give_back(cwd, std::move(session));
             ProgramEnd whole;

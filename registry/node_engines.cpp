@@ -40,6 +40,7 @@ public:
     std::string_view description() const override { return engine_.description; }
     std::string_view origin() const override { return origin_; }
     bool third_party() const override { return true; }
+    bool runs_in_own_program() const override { return true; }
     double typical_ns_per_step() const override { return engine_.typical_ns_per_step; }
 
     std::optional<std::string> cannot_run(const Scenario& s) const override {

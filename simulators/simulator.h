@@ -97,6 +97,10 @@ public:
     // Runs a library this project does not own (an engine): `run` isolates it
     // in a child process, where an abort costs only its own result.
     virtual bool third_party() const { return false; }
+    // Its engine already runs in a program of its own (the Node-hosted
+    // engines): an abort there costs only its own result, and `run` keeps it
+    // in this process, where its program serves every scenario of the run.
+    virtual bool runs_in_own_program() const { return false; }
     // What one step typically costs (ns), for scheduling only: the costliest
     // pairs start first (platform/parallel_pairs.h). The engines' figures are
     // medians of `sweep seed-2d --jobs 1` on the development machine; a
