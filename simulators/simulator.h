@@ -99,7 +99,8 @@ public:
     virtual bool third_party() const { return false; }
     // Its engine already runs in a program of its own (the Node-hosted
     // engines): an abort there costs only its own result, and `run` keeps it
-    // in this process, where its program serves every scenario of the run.
+    // in this process, where its program serves every scenario of the run
+    // (with --budget it goes to the workers, whose deadline enforces that).
     virtual bool runs_in_own_program() const { return false; }
     // What one step typically costs (ns), for scheduling only: the costliest
     // pairs start first (platform/parallel_pairs.h). The engines' figures are

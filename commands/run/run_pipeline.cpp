@@ -116,7 +116,8 @@ ComparedRun decode(const std::string& bytes) {
 
 // The engines (Simulator::third_party) in worker processes, when the
 // request isolates them: a crash or a hang there is that engine's failure
-// only. An engine that runs in a program of its own is isolated already. Their outcomes in the simulators' order; nothing where a simulator
+// only. An engine that runs in a program of its own is isolated already,
+// and stays here unless a budget is given: the workers' deadline enforces it. Their outcomes in the simulators' order; nothing where a simulator
 // runs here (not an engine, not isolated, or it cannot run the scenario).
 std::vector<std::optional<ComparedRun>> run_isolated(const Scenario& s, const RunRequest& request,
                                                  const Baselines& base) {
@@ -124,7 +125,8 @@ std::vector<std::optional<ComparedRun>> run_isolated(const Scenario& s, const Ru
     std::vector<std::optional<ComparedRun>> outcomes(sims.size());
     std::vector<std::size_t> pooled;
     for (std::size_t i = 0; i < sims.size(); ++i)
-        if (request.isolate && sims[i]->third_party() && !sims[i]->runs_in_own_program() && !sims[i]->cannot_run(s))
+        if (request.isolate && sims[i]->third_party() && !sims[i]->cannot_run(s) &&
+            (!sims[i]->runs_in_own_program() || request.budget_seconds > 0))
             pooled.push_back(i);
     PairSchedule schedule;
     schedule.jobs = request.jobs;
