@@ -37,6 +37,7 @@ cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_C
   -DBOUNCECHECK_BUILD_FUZZ=ON -DBOUNCECHECK_BUILD_TESTS=OFF -DBOUNCECHECK_BUILD_BENCH=OFF \
   -DBOUNCECHECK_WITH_BULLET=OFF -DBOUNCECHECK_WITH_ODE=OFF -DBOUNCECHECK_WITH_BOX2D=OFF \
   -DBOUNCECHECK_WITH_MUJOCO=OFF -DBOUNCECHECK_WITH_CHIPMUNK=OFF -DBOUNCECHECK_WITH_SICONOS=OFF -DBOUNCECHECK_WITH_DART=OFF \
+  -DBOUNCECHECK_WITH_NODE_ENGINES=OFF \
   > "$BUILD_DIR/configure.log" 2>&1 || { cat "$BUILD_DIR/configure.log"; exit 1; }
 cmake --build "$BUILD_DIR" --target fuzz_scenario_loader fuzz_output_manifest fuzz_cbor_check \
   fuzz_trajectory_reader fuzz_diff_report fuzz_external_settings -j "$(nproc)"
