@@ -40,9 +40,13 @@ const nodeFolder = path.dirname(path.dirname(fileURLToPath(import.meta.url)));
 
 // The version npm installed of `name` (engines/node/node_modules, pinned by
 // engines/node/package-lock.json).
+const versions = new Map();  // read once per process, not once per scenario
 export function packageVersion(name) {
-  const file = path.join(nodeFolder, 'node_modules', name, 'package.json');
-  return JSON.parse(fs.readFileSync(file, 'utf8')).version;
+  if (!versions.has(name)) {
+    const file = path.join(nodeFolder, 'node_modules', name, 'package.json');
+    versions.set(name, JSON.parse(fs.readFileSync(file, 'utf8')).version);
+  }
+  return versions.get(name);
 }
 
 // A failure the harness shows as the row's reason: its last stderr lines.
@@ -258,12 +262,13 @@ async function runScenario(adapter, text) {
     let t = 0;
     let stepNanoseconds = 0n;
     const loopStart = process.hrtime.bigint();
-    for (let k = 0; k < s.steps; ++k) {
+    const dt = s.dt, steps = s.steps;
+    for (let k = 0; k < steps; ++k) {
       const start = process.hrtime.bigint();
       for (let i = 0; i < substeps; ++i) world.step();
       stepNanoseconds += process.hrtime.bigint() - start;
       world.read(state);
-      t += s.dt;  // the document's clock: partial sums of dt
+      t += dt;  // the document's clock: partial sums of dt
       out += row(t, state);
       if (out.length >= ROW_CHUNK_BYTES) { writeAll(out); out = ''; }
     }
