@@ -107,15 +107,15 @@ public:
     std::unique_ptr<ProgramSession> take(const fs::path& cwd) {
         const std::lock_guard lock(mutex_);
         std::unique_ptr<ProgramSession> found;
+        // A session that is not running here (it ended meanwhile, or it is
+        // a forked copy of the parent's) is dropped: its destructor reaps
+        // it, or disowns the copy.
         for (auto it = idle_.begin(); it != idle_.end();) {
-            if (!it->second->owned_here()) {
-                it->second->disown();
+            if (!it->second->running()) {
                 it = idle_.erase(it);
-            } else if (!found && it->first == cwd && it->second->running()) {
+            } else if (!found && it->first == cwd) {
                 found = std::move(it->second);
                 it = idle_.erase(it);
-            } else if (!it->second->running()) {
-                it = idle_.erase(it);  // ended meanwhile: stopped and reaped here
             } else {
                 ++it;
             }
@@ -125,10 +125,6 @@ public:
     void give_back(const fs::path& cwd, std::unique_ptr<ProgramSession> session) {
         const std::lock_guard lock(mutex_);
         idle_.emplace(cwd, std::move(session));
-    }
-    ~SessionPool() {
-        for (auto& [cwd, session] : idle_)
-            if (!session->owned_here()) session->disown();
     }
 
 private:

@@ -669,8 +669,6 @@ bool ProgramSession::running() const {
     return ::poll(&status, 1, 0) == 0;
 }
 
-bool ProgramSession::owned_here() const { return running_ && running_->owner == ::getpid(); }
-
 void ProgramSession::disown() {
     if (!running_) return;
     Launched& p = running_->program;

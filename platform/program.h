@@ -84,8 +84,6 @@ public:
                                        double total_seconds);
     // Still running, as far as can be seen without waiting, and this process's.
     bool running() const;
-    // Started by this process (not a copy inherited by a fork).
-    bool owned_here() const;
     // Forgets the program without stopping it: this process's copy of the
     // session, in a forked child, while the parent keeps the program.
     void disown();
