@@ -2,12 +2,17 @@
 // Node-hosted engines): each engine on the seed of each of its dimensions in
 // per-contact mode at dt = 1e-3, through the harness exactly as `sweep` and
 // `stress` run it (a session reused run after run: Node's start-up and the
-// engine's load are paid before the timing starts). Two figures per run:
+// engine's load are paid before the timing starts). Per run, per step:
 // - engine_ns: the engine's own step, as the adapter times it (the #end
 //   line's step_seconds over the steps);
-// - overhead_pct: everything else the run cost, as a share of that: the
-//   adapter's reads of the state, formatting and writing each row, the pipe,
-//   and the harness's parsing, contact detection and recording of the rows.
+// - harness_ns: what every simulator costs the harness per step, compiled or
+//   hosted: the reference on the same scenario through the same recorder
+//   (contact detection, metrics), its own Euler step included (a few ns);
+// - overhead_pct: what the adapter and the protocol add, as a share of the
+//   engine's step: the run's wall time less the engine's steps and the
+//   harness's share (the adapter's reads of the state, the rows, the pipe,
+//   the timing of each step, the reading of the rows);
+// - outside_pct: everything outside the engine's step, the harness included.
 //
 //   build/bench/bench_node_engines --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 #include "registry/node_engines.h"
@@ -36,12 +41,15 @@ Scenario seed_per_contact(int dim, const std::string& engine) {
 void HostedEngineRun(benchmark::State& state, const std::string& engine, int dim) {
     const auto all = built_simulators();
     const Simulator* sim = nullptr;
-    for (const auto& candidate : all)
+    const Simulator* reference = nullptr;
+    for (const auto& candidate : all) {
         if (candidate->name() == engine) sim = candidate.get();
+        if (candidate->name() == "reference") reference = candidate.get();
+    }
     const Scenario s = seed_per_contact(dim, engine);
-    if (!sim || sim->cannot_run(s)) return state.SkipWithError("cannot run");
+    if (!sim || !reference || sim->cannot_run(s)) return state.SkipWithError("cannot run");
     if (record_run(*sim, s).status != RunStatus::ok) return state.SkipWithError("failed");  // the session's start-up
-    double wall = 0, step = 0;
+    double wall = 0, step = 0, harness = 0;
     std::int64_t steps = 0;
     for (auto _ : state) {
         const SimulatorSummary r = record_run(*sim, s);
@@ -49,9 +57,15 @@ void HostedEngineRun(benchmark::State& state, const std::string& engine, int dim
         wall += r.run_seconds;
         step += *r.step_seconds;
         steps += r.steps;
+        state.PauseTiming();
+        harness += record_run(*reference, s).run_seconds;
+        state.ResumeTiming();
     }
-    state.counters["engine_ns"] = step * 1e9 / static_cast<double>(steps);
-    state.counters["overhead_pct"] = 100 * (wall - step) / step;
+    const double per_step = 1e9 / static_cast<double>(steps);
+    state.counters["engine_ns"] = step * per_step;
+    state.counters["harness_ns"] = harness * per_step;
+    state.counters["overhead_pct"] = 100 * (wall - step - harness) / step;
+    state.counters["outside_pct"] = 100 * (wall - step) / step;
 }
 
 }  // namespace

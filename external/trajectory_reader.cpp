@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <bit>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -64,6 +65,10 @@ bool TrajectoryReader::take_line(std::string_view text) {
         problem_ = RowProblem{line_, "", "nothing may follow the #end line"};
         return false;
     }
+    if (text.starts_with("#f64")) {
+        take_block_line(text);
+        return false;
+    }
     if (text.starts_with("#end")) {
         if (rows_ < expected_rows_) {
             problem_ = RowProblem{line_, "", fmt::format("an #end line after {} rows; the scenario's clock takes {} "
@@ -103,23 +108,30 @@ bool TrajectoryReader::take_line(std::string_view text) {
                                       : fmt::format("not a number: {}", quoted(field))};
             return false;
         }
-        if (!std::isfinite(values[f])) {
-            problem_ = RowProblem{line_, names[f], fmt::format("not finite: {}", values[f])};
-            return false;
-        }
         at = stop + 1;
     }
     if (at <= end) {
         problem_ = RowProblem{line_, "", fmt::format("more than {} fields ({})", fields, header_)};
         return false;
     }
+    return take_values(values, /*binary=*/false);
+}
+
+bool TrajectoryReader::take_values(const double* values, bool binary) {
+    const char* const* names = dim_ == 2 ? kColumns2d.data() : kColumns3d.data();
+    const char* const row = binary ? " (a binary row)" : "";
+    for (int f = 0; f < 1 + 2 * dim_; ++f)
+        if (!std::isfinite(values[f])) {
+            problem_ = RowProblem{line_, names[f], fmt::format("not finite: {}{}", values[f], row)};
+            return false;
+        }
     // Sample k must be the clock's k-th: a missing or extra row would shift
     // every comparison after it.
     if (rows_ > 0) clock_.advance();
     if (!(std::abs(values[0] - clock_.t()) <= 0.5 * dt_)) {
         problem_ = RowProblem{line_, "t",
-                              fmt::format("{} is not row {}'s time on the scenario's clock ({}, dt = {})", values[0],
-                                          rows_, clock_.t(), dt_)};
+                              fmt::format("{} is not row {}'s time on the scenario's clock ({}, dt = {}){}", values[0],
+                                          rows_, clock_.t(), dt_, row)};
         return false;
     }
     state_.t = values[0];
@@ -129,6 +141,46 @@ bool TrajectoryReader::take_line(std::string_view text) {
     }
     ++rows_;
     return true;
+}
+
+bool TrajectoryReader::take_binary_row(std::string_view bytes) {
+    ++line_;
+    --binary_rows_left_;
+    double values[7];
+    for (int f = 0; f < 1 + 2 * dim_; ++f) {
+        // Little-endian whatever this machine's order (docs/external.md).
+        std::uint64_t bits = 0;
+        for (int b = 7; b >= 0; --b) bits = bits << 8 | static_cast<unsigned char>(bytes[static_cast<std::size_t>(8 * f + b)]);
+        values[f] = std::bit_cast<double>(bits);
+    }
+    return take_values(values, /*binary=*/true);
+}
+
+void TrajectoryReader::take_block_line(std::string_view text) {
+    const std::string_view count = text.substr(4);  // " N"
+    std::int64_t n = 0;
+    bool well_formed = count.size() >= 2 && count.front() == ' ';
+    if (well_formed) {
+        const auto [parsed, error] = std::from_chars(count.data() + 1, count.data() + count.size(), n);
+        well_formed = error == std::errc() && parsed == count.data() + count.size() && n >= 1 && n <= kMaxBlockRows;
+    }
+    if (!well_formed) {
+        problem_ = RowProblem{line_, "", fmt::format("expected '#f64 N' with N from 1 to {} (a block of N binary rows), got {}",
+                                                     kMaxBlockRows, quoted(text))};
+        return;
+    }
+    if (n > expected_rows_ - rows_) {
+        problem_ = RowProblem{line_, "", fmt::format("a block of {} binary rows after {}; the scenario's clock takes {} "
+                                                     "(steps + 1)",
+                                                     n, rows_, expected_rows_)};
+        return;
+    }
+    binary_rows_left_ = n;
+}
+
+std::string TrajectoryReader::fmt_cut_block() const {
+    return fmt::format("the stream ends inside a block of binary rows, {} of them still to come: cut off?",
+                       binary_rows_left_);
 }
 
 void TrajectoryReader::take_end_line(std::string_view text) {

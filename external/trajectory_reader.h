@@ -1,6 +1,7 @@
 // Reads a trajectory in the `--trajectories` CSV format (docs/external.md,
 // Output) as it streams in, from an external program's standard output or
-// from a file: the header, then one row per state on the document's clock.
+// from a file: the header, then one row per state on the document's clock,
+// each a text line or a row of a binary `#f64 N` block.
 // Rows are parsed in place, without allocating per row, and handed on one by
 // one: the trajectory is never held in memory.
 #pragma once
@@ -9,6 +10,7 @@
 #include "simulators/document_clock.h"
 #include "simulators/state.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -37,6 +39,26 @@ public:
     template <class OnState>
     bool feed(std::string_view bytes, OnState&& on_state) {
         while (!bytes.empty()) {
+            if (binary_rows_left_ > 0) {
+                // A binary row: whole in this piece, or gathered across pieces.
+                const std::size_t row_bytes = binary_row_bytes();
+                std::string_view row;
+                if (partial_.empty() && bytes.size() >= row_bytes) {
+                    row = bytes.substr(0, row_bytes);
+                    bytes.remove_prefix(row_bytes);
+                } else {
+                    const std::size_t take = std::min(row_bytes - partial_.size(), bytes.size());
+                    partial_.append(bytes.substr(0, take));
+                    bytes.remove_prefix(take);
+                    if (partial_.size() < row_bytes) return true;
+                    row = partial_;
+                }
+                const bool state = take_binary_row(row);
+                partial_.clear();
+                if (problem_) return false;
+                if (state && !on_state(state_)) return false;
+                continue;
+            }
             const std::size_t end = bytes.find('\n');
             if (end == std::string_view::npos) {
                 if (partial_.size() + bytes.size() > kMaxLineBytes) return fail_long_line();
@@ -65,6 +87,12 @@ public:
     template <class OnState>
     bool finish(OnState&& on_state) {
         (void)on_state;
+        if (binary_rows_left_ > 0) {
+            problem_ = RowProblem{line_ + 1, "",
+                                  fmt_cut_block()};
+            partial_.clear();
+            return false;
+        }
         if (!partial_.empty()) {
             problem_ = RowProblem{line_ + 1, "", "the last line has no newline at its end: cut off?"};
             partial_.clear();
@@ -91,8 +119,19 @@ public:
 
 private:
     static constexpr std::size_t kMaxLineBytes = 4096;
-    // One line: the header, or a row parsed into state_. True for a row.
+    // The most rows one `#f64 N` block may announce (docs/external.md).
+    static constexpr std::int64_t kMaxBlockRows = 1 << 16;
+    // One line: the header, a text row parsed into state_, or a block's
+    // `#f64 N` line. True for a row.
     bool take_line(std::string_view text);
+    // One row of a binary block (binary_row_bytes() bytes). True for a row.
+    bool take_binary_row(std::string_view bytes);
+    // A row's values, from text or binary: checked and put in state_. True for a row.
+    bool take_values(const double* values, bool binary);
+    // `#f64 N`: the next N rows are binary.
+    void take_block_line(std::string_view text);
+    std::size_t binary_row_bytes() const { return 8 * static_cast<std::size_t>(1 + 2 * dim_); }
+    std::string fmt_cut_block() const;
     // The optional `#end` line after the last row.
     void take_end_line(std::string_view text);
     bool fail_long_line();
@@ -105,7 +144,8 @@ private:
     std::int64_t line_ = 0, rows_ = 0;
     DocumentClock clock_;
     State state_;
-    std::string partial_;  // a line split across pieces
+    std::string partial_;  // a line, or a binary row, split across pieces
+    std::int64_t binary_rows_left_ = 0;  // of the current `#f64 N` block
     std::optional<RowProblem> problem_;
     bool ended_ = false;  // the #end line was read: nothing may follow
     std::optional<double> step_seconds_;

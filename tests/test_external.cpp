@@ -14,10 +14,13 @@
 #include "tests/support/processes.h"
 #include "tests/support/test_directory.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <bit>
 #include <cerrno>
+#include <limits>
 #include <chrono>
 #include <fstream>
 #include <string>
@@ -209,6 +212,98 @@ TEST(TrajectoryReader, TheEndLineCarriesTheProgramsStepTime) {
         EXPECT_EQ(problem->field, c.field) << c.text;
         EXPECT_NE(problem->reason.find(c.reason), std::string::npos) << problem->reason;
     }
+}
+
+// Binary rows (docs/external.md, Output): `#f64 N` then N rows of
+// little-endian binary64. The golden file's rows as binary blocks, mixed with
+// text rows, read the same as its text in any pieces; bytes that are newlines
+// or '#' inside a block are values, not lines.
+std::string binary_rows(const std::vector<State>& states, int dim, std::size_t from, std::size_t count) {
+    std::string out = fmt::format("#f64 {}\n", count);
+    for (std::size_t r = from; r < from + count; ++r) {
+        std::vector<double> values{states[r].t};
+        for (int i = 0; i < dim; ++i) values.push_back(states[r].p[i]);
+        for (int i = 0; i < dim; ++i) values.push_back(states[r].v[i]);
+        for (const double v : values) {
+            const auto bits = std::bit_cast<std::uint64_t>(v);
+            for (int b = 0; b < 8; ++b) out += static_cast<char>(bits >> (8 * b) & 0xff);
+        }
+    }
+    return out;
+}
+
+TEST(TrajectoryReader, ReadsBinaryBlocksAsTheTextTheyStandFor) {
+    const Scenario s = seed("seed-3d");
+    const std::string text = slurp(kGolden3d);
+    const std::vector<State> golden = read_all(s, text, text.size());
+    ASSERT_GT(golden.size(), 300u);
+    // Text row 0, a block of 1, a block of 200, text rows, a block of the rest.
+    const std::size_t after_header = text.find('\n') + 1;
+    std::string mixed = text.substr(0, text.find('\n', after_header) + 1);
+    mixed += binary_rows(golden, 3, 1, 1) + binary_rows(golden, 3, 2, 200);
+    std::size_t line_start = after_header;
+    for (std::size_t r = 0; r < 202; ++r) line_start = text.find('\n', line_start) + 1;
+    std::size_t line_end = line_start;
+    for (std::size_t r = 202; r < 210; ++r) line_end = text.find('\n', line_end) + 1;
+    mixed += text.substr(line_start, line_end - line_start);
+    mixed += binary_rows(golden, 3, 210, golden.size() - 210) + "#end {\"step_seconds\": 0.5}\n";
+    ASSERT_NE(mixed.find('\n', mixed.find("#f64 200")) , std::string::npos);
+    for (std::size_t piece : {std::size_t{1}, std::size_t{5}, std::size_t{61}, mixed.size()}) {
+        std::optional<RowProblem> problem;
+        const std::vector<State> read = read_all(s, mixed, piece, &problem);
+        ASSERT_FALSE(problem) << piece << ": " << problem->format();
+        ASSERT_EQ(read.size(), golden.size()) << piece;
+        for (std::size_t i = 0; i < golden.size(); ++i) {
+            ASSERT_EQ(read[i].t, golden[i].t) << i;
+            ASSERT_EQ(read[i].p, golden[i].p) << i;
+            ASSERT_EQ(read[i].v, golden[i].v) << i;
+        }
+    }
+}
+
+TEST(TrajectoryReader, NamesWhatIsWrongWithABinaryBlock) {
+    Scenario s = seed("seed-2d");
+    s.duration = 2 * s.dt;  // three rows
+    std::vector<State> states(3);
+    for (int r = 0; r < 3; ++r) {
+        states[static_cast<std::size_t>(r)].t = r * s.dt;
+        states[static_cast<std::size_t>(r)].p = {0.5, 0.9, 0};
+    }
+    const std::string h = "t,x,y,vx,vy\n";
+    std::vector<State> non_finite = states;
+    non_finite[1].v[1] = std::numeric_limits<double>::quiet_NaN();
+    std::vector<State> late = states;
+    late[2].t = 3 * s.dt;
+    const std::string whole = h + binary_rows(states, 2, 0, 3);
+    const struct {
+        std::string text;
+        std::int64_t line;
+        std::string field, reason;
+    } cases[] = {
+        {h + "#f64\n", 2, "", "expected '#f64 N' with N from 1 to 65536"},
+        {h + "#f64 0\n", 2, "", "expected '#f64 N'"},
+        {h + "#f64 65537\n", 2, "", "expected '#f64 N'"},
+        {h + "#f64 2x\n", 2, "", "expected '#f64 N'"},
+        {h + "#f64 4\n", 2, "", "a block of 4 binary rows after 0; the scenario's clock takes 3"},
+        {whole.substr(0, whole.size() - 1), 5, "", "the stream ends inside a block of binary rows, 1 of them still to come"},
+        {whole.substr(0, whole.size() - 40), 5, "", "the stream ends inside a block of binary rows, 1 of them"},
+        {h + binary_rows(non_finite, 2, 0, 3), 4, "vy", "not finite: nan (a binary row)"},
+        {h + binary_rows(late, 2, 0, 3), 5, "t", "is not row 2's time on the scenario's clock"},
+        {whole + "0.09,0.5,0.9,0,0\n", 6, "", "more rows than the 3"},
+    };
+    for (const auto& c : cases) {
+        for (std::size_t piece : {std::size_t{1}, std::size_t{7}, c.text.size()}) {
+            std::optional<RowProblem> problem;
+            read_all(s, c.text, piece, &problem);
+            ASSERT_TRUE(problem) << c.reason;
+            EXPECT_EQ(problem->line, c.line) << c.reason;
+            EXPECT_EQ(problem->field, c.field) << c.reason;
+            EXPECT_NE(problem->reason.find(c.reason), std::string::npos) << problem->reason;
+        }
+    }
+    std::optional<RowProblem> problem;
+    EXPECT_EQ(read_all(s, whole, 3, &problem).size(), 3u);
+    EXPECT_FALSE(problem) << problem->format();
 }
 
 // ------------------------------------------------ declaring one in a scenario file
