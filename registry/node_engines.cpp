@@ -30,11 +30,11 @@ constexpr NodeEngine kNodeEngines[] = {
 
 class NodeEngineSimulator final : public Simulator {
 public:
-    explicit NodeEngineSimulator(const NodeEngine& engine)
+    NodeEngineSimulator(const NodeEngine& engine, ExternalLimits limits)
         : engine_(engine),
           script_(node_engine_dir() / fmt::format("{}.mjs", engine.name)),
           origin_(fmt::format("node: {}", script_.string())),
-          hosted_(make_external_simulator(declaration(), ExternalLimits{})) {}
+          hosted_(make_external_simulator(declaration(), limits)) {}
 
     std::string_view name() const override { return engine_.name; }
     std::string_view description() const override { return engine_.description; }
@@ -84,9 +84,9 @@ private:
 
 std::span<const NodeEngine> node_engines() { return kNodeEngines; }
 
-std::vector<std::unique_ptr<const Simulator>> make_node_engine_simulators() {
+std::vector<std::unique_ptr<const Simulator>> make_node_engine_simulators(ExternalLimits limits) {
     std::vector<std::unique_ptr<const Simulator>> all;
-    for (const NodeEngine& engine : kNodeEngines) all.push_back(std::make_unique<NodeEngineSimulator>(engine));
+    for (const NodeEngine& engine : kNodeEngines) all.push_back(std::make_unique<NodeEngineSimulator>(engine, limits));
     return all;
 }
 

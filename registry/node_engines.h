@@ -7,6 +7,7 @@
 // like the compiled ones, told apart only by `source` and their settings.
 #pragma once
 
+#include "external/external_simulator.h"
 #include "simulators/simulator.h"
 
 #include <memory>
@@ -28,7 +29,7 @@ struct NodeEngine {
 
 std::span<const NodeEngine> node_engines();
 
-// The simulators of node_engines(), in that order.
-std::vector<std::unique_ptr<const Simulator>> make_node_engine_simulators();
+// The simulators of node_engines(), in that order, each program within `limits`.
+std::vector<std::unique_ptr<const Simulator>> make_node_engine_simulators(ExternalLimits limits);
 
 }  // namespace bouncecheck

@@ -66,14 +66,16 @@ constexpr BuiltEngine kBuiltEngines[] = {
 
 }  // namespace
 
-std::vector<std::unique_ptr<const Simulator>> built_simulators() {
+std::vector<std::unique_ptr<const Simulator>> built_simulators(ExternalLimits hosted) {
     std::vector<std::unique_ptr<const Simulator>> all;
     all.push_back(make_reference_simulator());
     all.push_back(make_exact_simulator());
     for (const BuiltEngine& engine : kBuiltEngines)
         if (engine.identity) all.push_back(engine_in_module(*engine.identity, engine.folder));
 #ifdef BOUNCECHECK_WITH_NODE_ENGINES
-    for (auto& hosted : make_node_engine_simulators()) all.push_back(std::move(hosted));
+    for (auto& node_engine : make_node_engine_simulators(hosted)) all.push_back(std::move(node_engine));
+#else
+    (void)hosted;
 #endif
     return all;
 }

@@ -9,7 +9,9 @@
 #include "platform/program.h"
 #include "registry/registry.h"
 #include "scenarios/loader.h"
+#include "tests/support/cli.h"
 #include "tests/support/engine_tests.h"
+#include "tests/support/test_directory.h"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -47,6 +49,23 @@ nlohmann::json describe(std::string_view name) {
     const ProgramEnd end = run_program(request);
     if (!end.succeeded()) throw std::runtime_error(fmt::format("{} --describe: {}", name, end.describe()));
     return nlohmann::json::parse(out);
+}
+
+// The command's --external-timeout bounds a hosted engine as it bounds an
+// external program: Node's start-up and the engine's load (0.17-1.1 s, no
+// output) outlast 0.05 s, so the row fails with the limit's reason, and
+// only that row.
+class NodeEngineLimits : public test::TestDirectory {};
+
+TEST_F(NodeEngineLimits, TheCommandsSilenceLimitReachesThem) {
+    const test::CliResult r = test::bouncecheck("run " + kScenarios + "/seed-3d.toml --engines reference,jolt "
+                                                "--external-timeout 0.05 --out " + (dir_ / "out").string());
+    EXPECT_NE(r.output.find("no output for 0.05 s (--external-timeout): killed"), std::string::npos) << r.output;
+    const nlohmann::json report = nlohmann::json::parse(test::slurp(dir_ / "out" / "report.json"));
+    const nlohmann::json& rows = report["scenarios"][0]["simulators"];
+    ASSERT_EQ(rows.size(), 2u);
+    for (const auto& row : rows)
+        EXPECT_EQ(row["status"], row["simulator"] == "jolt" ? "failed" : "ok") << row.dump();
 }
 
 class NodeEngineFile : public ::testing::TestWithParam<NodeEngine> {};

@@ -112,7 +112,7 @@ int command_run(RunOptions opt) {
     }
 
     if (!extra->add_trajectories(opt.trajectory_args, *scenarios)) return kBadInput;
-    const auto all = built_simulators();
+    const auto all = built_simulators(external.limits());
     const auto selected = select_simulators(all, opt.engines);
     if (!selected) return kBadInput;
     const fs::path out_dir = opt.out_dir;

@@ -145,7 +145,7 @@ std::optional<StressPlan> plan_stress(const StressOptions& opt) {
                    did_you_mean(name, names), fmt::join(rows, ", "), generated);
         return std::nullopt;
     }
-    StressPlan plan{std::move(*extra), built_simulators(), std::move(cases), {}};
+    StressPlan plan{std::move(*extra), built_simulators(external.limits()), std::move(cases), {}};
     const auto selected = select_simulators(plan.built, opt.engines);
     if (!selected) return std::nullopt;
     plan.simulators = plan.extra.with_command_line(*selected);

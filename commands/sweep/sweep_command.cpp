@@ -131,7 +131,7 @@ std::optional<SweepPlan> plan_sweep(const SweepOptions& opt) {
         }
     }
 
-    SweepPlan plan{std::move(*extra), built_simulators(), s, std::move(dts), {}};
+    SweepPlan plan{std::move(*extra), built_simulators(external.limits()), s, std::move(dts), {}};
     // exact is the truth every error is measured against: never swept.
     const auto selected =
         select_simulators(plan.built, opt.engines, "exact", "exact is the truth the sweep measures against");
