@@ -83,7 +83,8 @@ void StreamRecorder::diagnose(const State& s) {
 }
 
 void StreamRecorder::count_contacts(const State& previous, const State& s, ContactMask contact,
-                                    bool after_first_state) {
+                                    bool after_first_state, const State* before_previous) {
+    const double stopped_speed = gravity_.norm() * dt_;  // slower than a step of gravity
     for (int i = 0; i < dim_; ++i) {
         for (const int side : {-1, +1}) {
             if (!(((side < 0 ? contact.lower : contact.upper) >> i) & 1u)) continue;
@@ -91,13 +92,43 @@ void StreamRecorder::count_contacts(const State& previous, const State& s, Conta
             if (contact_events_.size() < kKeptContacts && after_first_state) {
                 // Both velocities at the impact instant within the step.
                 const double wall = side < 0 ? walls_.low[i] : walls_.high[i];
-                const ImpactVelocities at = impact_velocities(previous, s, i, side, wall, gravity_);
-                contact_events_.push_back(
-                    measure_contact(at.t, i, side, at.incoming, at.outgoing, dim_, contact.lower | contact.upper));
+                ImpactVelocities at = impact_velocities(previous, s, i, side, wall, gravity_);
+                if (before_previous) {
+                    // Braked in the step before the turn, beyond gravity: the
+                    // impact began there. Its normal speed in is the arrival's;
+                    // the other components are compared at the turn, as the
+                    // free flight carries them there.
+                    const ImpactVelocities arrival = impact_velocities(*before_previous, previous, i, side, wall, gravity_);
+                    if (side * (arrival.incoming[i] - at.incoming[i]) > stopped_speed) {
+                        at.incoming = arrival.incoming + gravity_ * (at.t - arrival.t);
+                        at.incoming[i] = arrival.incoming[i];
+                        at.t = arrival.t;
+                    }
+                }
+                const unsigned normal_axes = contact.lower | contact.upper;
+                contact_events_.push_back(measure_contact(at.t, i, side, at.incoming, at.outgoing, dim_, normal_axes));
+                // Stopped: moving away from the wall slower than a step of gravity would.
+                if (-side * at.outgoing[i] <= stopped_speed)
+                    stopped_impacts_.push_back({contact_events_.size() - 1, wall, at.incoming, at.outgoing, normal_axes});
             }
         }
     }
     if ((contact.lower >> vertical_) & 1u) ++floor_contacts_;
+}
+
+void StreamRecorder::measure_release(const State& stopped, const State& s) {
+    for (const StoppedImpact& impact : stopped_impacts_) {
+        ContactEvent& e = contact_events_[impact.event];
+        const ImpactVelocities release = impact_velocities(stopped, s, e.axis, e.side, impact.wall, gravity_);
+        // Released: now moving away faster than a step of gravity (a ball
+        // that stays stopped, at rest, keeps the stop as its outgoing).
+        if (-e.side * release.outgoing[e.axis] > gravity_.norm() * dt_) {  // as count_contacts' stopped_speed
+            Vec3 outgoing = impact.outgoing;
+            outgoing[e.axis] = release.outgoing[e.axis];
+            e = measure_contact(e.t, e.axis, e.side, impact.incoming, outgoing, dim_, impact.normal_axes);
+        }
+    }
+    stopped_impacts_.clear();
 }
 
 // The apex sample refined by the parabola through it and its two neighbours

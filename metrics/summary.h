@@ -199,6 +199,7 @@ private:
         double apex_before = 0, apex_after = 0;  // heights of the samples around the apex sample
         bool apex_open = false;
         std::optional<double> rest_since;
+        State before_previous;  // the state before `previous` (once states > 1)
     };
     // One state's metrics into `r` (tracking_, or record_pending's copy of
     // it), after `previous` (the stream's state before it;
@@ -208,8 +209,9 @@ private:
     template <int D>
     void track(Tracking& r, const State& previous, const State& s, ContactMask contact) {
         track_energy_and_penetration<D>(r, s);
+        if (!stopped_impacts_.empty()) measure_release(previous, s);
         if (contact.any()) {
-            count_contacts(previous, s, contact, r.states > 0);
+            count_contacts(previous, s, contact, r.states > 0, r.states > 1 ? &r.before_previous : nullptr);
             // A floor contact closes the interval since the previous one: its
             // highest sample is an apex unless the ball never rose above the
             // floor sample.
@@ -220,6 +222,7 @@ private:
         }
         track_rest(r, s);
         track_apex(r, previous, s);
+        r.before_previous = previous;
         ++r.states;
     }
 
@@ -240,7 +243,16 @@ private:
         if (!(dim_ == 2 ? plainly_sound<2>(s) : plainly_sound<3>(s))) diagnose(s);
     }
     // Counts the contacts and keeps their events (after the first state only).
-    void count_contacts(const State& previous, const State& s, ContactMask contact, bool after_first_state);
+    // An impact whose ball arrived stopped on the wall (the engine stopped it
+    // in the step before, `before_previous` to `previous`) is measured with
+    // the incoming velocity of that arrival.
+    void count_contacts(const State& previous, const State& s, ContactMask contact, bool after_first_state,
+                        const State* before_previous);
+    // An impact over two steps (the engine stops the ball on the wall, then
+    // releases it): the kept event's outgoing velocity, measured at a stop,
+    // is taken from the release in the step after, if it moves away: its
+    // normal component; the others stay as they were at the impact instant.
+    void measure_release(const State& stopped, const State& s);
     // Keeps the apex sample refined by its neighbours' heights.
     void push_apex(Apex apex, double height_before, double height_after);
     void track_apex(Tracking& r, const State& previous, const State& s) const {
@@ -269,6 +281,15 @@ private:
     std::int64_t contacts_ = 0, floor_contacts_ = 0, apex_count_ = 0;
     std::vector<Apex> apexes_;
     std::vector<ContactEvent> contact_events_;
+    // contact_events_ measured at a stop in the last step: their index, wall
+    // plane, velocities at the impact and the axes of the walls touched with them.
+    struct StoppedImpact {
+        std::size_t event;
+        double wall;
+        Vec3 incoming, outgoing;
+        unsigned normal_axes;
+    };
+    std::vector<StoppedImpact> stopped_impacts_;
     Vec3 gravity_;
     State last_;  // the last state recorded
     std::string failure_;

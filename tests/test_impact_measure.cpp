@@ -3,9 +3,11 @@
 // tangential verdict that tells beta = 0.99 from no loss and from 0.97.
 #include "metrics/summary.h"
 #include "scenarios/loader.h"
+#include "simulators/document_clock.h"
 #include "tests/support/cli.h"
 #include "verdicts/verdicts.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -194,6 +196,90 @@ TEST(ImpactMeasureCli, EventDrivenWithoutTheTangentialLossFails) {
         EXPECT_FALSE(d["reproduces"].get<bool>()) << beta << " " << d.dump();
         EXPECT_NE(d["verdict"].get<std::string>().find("tangential loss"), std::string::npos) << d.dump();
         EXPECT_NEAR(d["normal_worst"].get<double>(), 0.8, 1e-6) << beta;  // its alpha reads exact
+    }
+    fs::remove_all(dir);
+}
+
+// An engine that holds the ball on the wall for a step (Havok does, measured:
+// docs/engines.md): the sample after the crossing lies on the wall, stopped
+// (`braked` 0) or still moving into it at `braked` times its speed, and the
+// next one has left the wall with alpha times the speed the ball had at that
+// sample's instant, beta on the other components at the stop. The impact
+// must read alpha and beta as it does for an engine that bounces within the
+// step (before, the stop read restitution 0, a braked arrival up to 9).
+std::string held_bounces_csv(const Scenario& s, double braked) {
+    const double g = -s.gravity[2], r = s.radius, dt = s.dt;
+    std::string csv = "t,x,y,z,vx,vy,vz\n";
+    Vec3 p = s.position, v = s.velocity;
+    const auto row = [&](double t) {
+        csv += fmt::format("{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", t, p.x(), p.y(), p.z(), v.x(),
+                           v.y(), v.z());
+    };
+    row(0);
+    double held_speed = 0;  // > 0: the ball is held on the floor, to leave at alpha times this
+    DocumentClock clock(dt, s.duration);
+    for (std::int64_t k = 1; k <= document_step_count(dt, s.duration); ++k) {
+        clock.advance();
+        p.x() += v.x() * dt;
+        p.y() += v.y() * dt;
+        if (held_speed > 0) {
+            v.z() = s.alpha * held_speed;  // leaves the wall at the held sample's instant
+            p.z() = r + v.z() * dt - 0.5 * g * dt * dt;
+            v.z() -= g * dt;
+            held_speed = 0;
+        } else if (p.z() + v.z() * dt - 0.5 * g * dt * dt < r) {
+            held_speed = -v.z() + g * dt;  // its free flight's speed at this instant
+            p.z() = r;
+            v.z() = -braked * held_speed;
+            v.x() *= s.beta;
+            v.y() *= s.beta;
+        } else {
+            p.z() += v.z() * dt - 0.5 * g * dt * dt;
+            v.z() -= g * dt;
+        }
+        row(clock.t());
+    }
+    return csv;
+}
+
+TEST(ImpactMeasureCli, AnImpactHeldOnTheWallForAStepReadsTheLaw) {
+    const fs::path dir = fresh_dir("held");
+    // The seed's scale and Earth's: a ball thrown along x in a room long
+    // enough that it meets only the floor.
+    const struct {
+        const char* name;
+        double g, dt, speed, duration;
+    } scales[] = {{"seed", 0.0981, 0.03, 0.01, 40.0}, {"earth", 9.81, 1.0 / 60, 0.3, 2.0}};
+    for (const auto& scale : scales) {
+        const fs::path file = dir / (std::string(scale.name) + ".toml");
+        std::ofstream(file) << fmt::format(
+            "name = \"{}\"\n[room]\nsize = [100.0, 1.0, 1.0]\n[ball]\nradius = 0.05\nposition = [0.5, 0.5, 0.9]\n"
+            "velocity = [{}, 0.0, 0.0]\n[world]\ngravity = [0.0, 0.0, -{}]\n[damping]\nnormal = 0.8\ntangential = 0.99\n"
+            "[run]\ndt = {:.17g}\nduration = {}\n",
+            scale.name, scale.speed, scale.g, scale.dt, scale.duration);
+        const Scenario s = load_scenario(file.string());
+        for (const double braked : {0.0, 0.1}) {
+            const std::string label = fmt::format("{} braked {}", scale.name, braked);
+            const fs::path csv = dir / fmt::format("{}-{}.csv", scale.name, braked);
+            std::ofstream(csv) << held_bounces_csv(s, braked);
+            const fs::path out = dir / fmt::format("{}-{}-out", scale.name, braked);
+            const CliResult r = bouncecheck("run " + file.string() + " --engines reference --no-timings --trajectory held=" +
+                                            csv.string() + " --out " + out.string());
+            ASSERT_TRUE(r.status == 0 || r.status == 1) << r.output;
+            const auto report = nlohmann::json::parse(slurp(out / "report.json"));
+            bool found = false;
+            for (const auto& sim : report["scenarios"][0]["simulators"]) {
+                if (sim["simulator"] != "held") continue;
+                found = true;
+                ASSERT_GE(sim["contacts_measured"].size(), 3u) << label;
+                for (std::size_t i = 0; i < 3; ++i) {
+                    const auto& e = sim["contacts_measured"][i];
+                    EXPECT_NEAR(e["normal_coefficient"].get<double>(), 0.8, 1e-9) << label << " " << e;
+                    EXPECT_NEAR(e["tangential_retention"].get<double>(), 0.99, 1e-9) << label << " " << e;
+                }
+            }
+            EXPECT_TRUE(found) << label;
+        }
     }
     fs::remove_all(dir);
 }
