@@ -146,7 +146,8 @@ public:
     RunOutcome run(const Scenario& s, RunSink& sink) const override {
         RunOutcome out;
         out.settings.push_back({"protocol", fmt::format("bouncecheck-external/{}", kExternalProtocol),
-                                "docs/external.md: the scenario on stdin as JSON, the trajectory on stdout as CSV"});
+                                "docs/external.md: the scenario on stdin as JSON, the trajectory on stdout as CSV "
+                                "rows or binary blocks"});
         const SettingsFile settings;
         TrajectoryReader reader(s);
         RowsToSink rows(s, sink);

@@ -83,7 +83,7 @@ void StreamRecorder::diagnose(const State& s) {
 }
 
 void StreamRecorder::count_contacts(const State& previous, const State& s, ContactMask contact,
-                                    bool after_first_state, const State* before_previous) {
+                                    bool after_first_state, const State* before_previous, ContactMask previous_contact) {
     const double stopped_speed = gravity_.norm() * dt_;  // slower than a step of gravity
     for (int i = 0; i < dim_; ++i) {
         for (const int side : {-1, +1}) {
@@ -93,16 +93,22 @@ void StreamRecorder::count_contacts(const State& previous, const State& s, Conta
                 // Both velocities at the impact instant within the step.
                 const double wall = side < 0 ? walls_.low[i] : walls_.high[i];
                 ImpactVelocities at = impact_velocities(previous, s, i, side, wall, gravity_);
-                if (before_previous) {
-                    // Braked in the step before the turn, beyond gravity: the
-                    // impact began there. Its normal speed in is the arrival's;
-                    // the other components are compared at the turn, as the
-                    // free flight carries them there.
-                    const ImpactVelocities arrival = impact_velocities(*before_previous, previous, i, side, wall, gravity_);
-                    if (side * (arrival.incoming[i] - at.incoming[i]) > stopped_speed) {
+                const bool counted_at_previous = (((side < 0 ? previous_contact.lower : previous_contact.upper) >> i) & 1u) != 0;
+                if (before_previous && !counted_at_previous) {
+                    // The step before the turn braked the ball's normal speed
+                    // beyond what its free flight explains, by more than a step
+                    // of gravity and a tenth of that speed (a floor without
+                    // gravity), from more than ten steps of gravity (not the
+                    // chatter of a ball at rest, whose speeds are a few): the
+                    // impact began there, so its normal speed in is that
+                    // arrival's. Everything else is compared at the turn's
+                    // instant, where the free flight carries it.
+                    const double free_speed = side * (before_previous->v[i] + gravity_[i] * (previous.t - before_previous->t));
+                    const double braked = free_speed - side * previous.v[i];
+                    if (free_speed > 10 * stopped_speed && braked > std::max(stopped_speed, 0.1 * free_speed)) {
+                        const ImpactVelocities arrival = impact_velocities(*before_previous, previous, i, side, wall, gravity_);
                         at.incoming = arrival.incoming + gravity_ * (at.t - arrival.t);
                         at.incoming[i] = arrival.incoming[i];
-                        at.t = arrival.t;
                     }
                 }
                 const unsigned normal_axes = contact.lower | contact.upper;

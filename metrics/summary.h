@@ -199,7 +199,8 @@ private:
         double apex_before = 0, apex_after = 0;  // heights of the samples around the apex sample
         bool apex_open = false;
         std::optional<double> rest_since;
-        State before_previous;  // the state before `previous` (once states > 1)
+        State before_previous;         // the state before `previous` (once states > 1)
+        ContactMask previous_contact;  // the walls whose contacts were counted at `previous`
     };
     // One state's metrics into `r` (tracking_, or record_pending's copy of
     // it), after `previous` (the stream's state before it;
@@ -211,7 +212,8 @@ private:
         track_energy_and_penetration<D>(r, s);
         if (!stopped_impacts_.empty()) measure_release(previous, s);
         if (contact.any()) {
-            count_contacts(previous, s, contact, r.states > 0, r.states > 1 ? &r.before_previous : nullptr);
+            count_contacts(previous, s, contact, r.states > 0, r.states > 1 ? &r.before_previous : nullptr,
+                           r.previous_contact);
             // A floor contact closes the interval since the previous one: its
             // highest sample is an apex unless the ball never rose above the
             // floor sample.
@@ -223,6 +225,7 @@ private:
         track_rest(r, s);
         track_apex(r, previous, s);
         r.before_previous = previous;
+        r.previous_contact = contact;
         ++r.states;
     }
 
@@ -243,11 +246,11 @@ private:
         if (!(dim_ == 2 ? plainly_sound<2>(s) : plainly_sound<3>(s))) diagnose(s);
     }
     // Counts the contacts and keeps their events (after the first state only).
-    // An impact whose ball arrived stopped on the wall (the engine stopped it
-    // in the step before, `before_previous` to `previous`) is measured with
-    // the incoming velocity of that arrival.
+    // An impact whose ball the engine braked in the step before
+    // (`before_previous` to `previous`) without a contact being counted there
+    // is measured with the incoming normal speed of that arrival.
     void count_contacts(const State& previous, const State& s, ContactMask contact, bool after_first_state,
-                        const State* before_previous);
+                        const State* before_previous, ContactMask previous_contact);
     // An impact over two steps (the engine stops the ball on the wall, then
     // releases it): the kept event's outgoing velocity, measured at a stop,
     // is taken from the release in the step after, if it moves away: its

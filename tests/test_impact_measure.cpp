@@ -284,5 +284,45 @@ TEST(ImpactMeasureCli, AnImpactHeldOnTheWallForAStepReadsTheLaw) {
     fs::remove_all(dir);
 }
 
+// What the held-impact measure must leave alone (a review found both): a
+// dead ball (alpha 0) stopped on the floor and then meeting a side wall a
+// step later, and a ball thrown up against the ceiling, whose free flight
+// slows by exactly a step of gravity each step. The reference reads the law
+// at every contact (a corner's normal reads alpha beta: the law scales it
+// for the other wall).
+TEST(ImpactMeasureCli, TheHeldImpactMeasureLeavesTheReferenceExact) {
+    const fs::path dir = fresh_dir("held-reference");
+    const auto reference_events = [&](const std::string& file, const std::string& label) {
+        const fs::path out = dir / label;
+        const CliResult r = bouncecheck("run " + file + " --engines reference --no-timings --out " + out.string());
+        EXPECT_TRUE(r.status == 0 || r.status == 1) << r.output;
+        return nlohmann::json::parse(slurp(out / "report.json"))["scenarios"][0]["simulators"][0];
+    };
+    const nlohmann::json dead = reference_events(std::string(BOUNCECHECK_SCENARIO_DIR) + "/stress/dead-ball.toml", "dead");
+    EXPECT_TRUE(dead["comparison"]["damping"]["reproduces"].get<bool>()) << dead["comparison"]["damping"];
+    for (const auto& e : dead["contacts_measured"])
+        if (!e["tangential_retention"].is_null()) EXPECT_NEAR(e["tangential_retention"].get<double>(), 0.99, 1e-9) << e;
+    for (const double dt : {1e-3, 1.0 / 60}) {
+        const fs::path file = dir / fmt::format("ceiling-{}.toml", dt);
+        std::ofstream(file) << fmt::format(
+            "name = \"ceiling\"\n[room]\nsize = [1.0, 1.0, 1.0]\n[ball]\nradius = 0.05\nposition = [0.5, 0.5, 0.2]\n"
+            "velocity = [0.3, 0.2, 6.5]\n[world]\ngravity = [0.0, 0.0, -9.81]\n[damping]\nnormal = 0.8\n"
+            "tangential = 0.99\n[run]\ndt = {:.17g}\nduration = 3.0\n",
+            dt);
+        const nlohmann::json ceiling = reference_events(file.string(), fmt::format("ceiling-{}", dt));
+        int at_ceiling = 0;
+        for (const auto& e : ceiling["contacts_measured"]) {
+            const double t = e["t"].get<double>();
+            int walls_then = 0;  // a corner: two walls in one step
+            for (const auto& other : ceiling["contacts_measured"]) walls_then += other["t"].get<double>() == t;
+            const double alpha = walls_then > 1 ? 0.8 * 0.99 : 0.8;
+            EXPECT_NEAR(e["normal_coefficient"].get<double>(), alpha, 1e-9) << dt << " " << e;
+            at_ceiling += e["axis"] == 2 && e["side"] == 1;
+        }
+        EXPECT_GE(at_ceiling, 2) << dt;
+    }
+    fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace bouncecheck

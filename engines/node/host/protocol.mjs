@@ -241,6 +241,7 @@ async function libraryFor(adapter, dimension) {
 }
 
 async function runScenario(adapter, text) {
+  if (os.endianness() !== 'LE') fail('the rows are written as little-endian binary64 (docs/external.md): this machine is big-endian');
   const s = readScenario(text, adapter);
   const lib = await libraryFor(adapter, s.dimension);
   const d = s.dimension;
@@ -259,7 +260,7 @@ async function runScenario(adapter, text) {
     const state = new Float64Array(2 * d);
     writeAll(d === 3 ? 't,x,y,z,vx,vy,vz\n' : 't,x,y,vx,vy\n');
     // Each row: t, the centre, the velocity, as binary64 in this machine's
-    // order, which serve() checked is little-endian (a typed array's stores
+    // order, which runScenario checked is little-endian (a typed array's stores
     // cost half a DataView's here).
     const width = 1 + 2 * d;
     const block = new Float64Array(BLOCK_ROWS * width);
@@ -332,7 +333,6 @@ function describe(adapter) {
 // The entry point of every engine file: `await serve(adapter)`.
 export async function serve(adapter) {
   try {
-    if (os.endianness() !== 'LE') fail('the rows are written as little-endian binary64 (docs/external.md): this machine is big-endian');
     if (process.argv.includes('--describe')) {
       writeAll(describe(adapter) + '\n');
     } else if (process.argv.includes('--session')) {
