@@ -66,6 +66,7 @@ StreamRecorder::StreamRecorder(const Scenario& s, StateSink* sink)
     rest_speed_ = k * g * s.dt;
     rest_height_ = 0.5 * k * k * g * s.dt * s.dt + 1e-6 * s.radius;
     dt_ = s.dt;
+    stopped_speed_ = s.gravity.norm() * s.dt;
 }
 
 void StreamRecorder::diagnose(const State& s) {
@@ -84,7 +85,6 @@ void StreamRecorder::diagnose(const State& s) {
 
 void StreamRecorder::count_contacts(const State& previous, const State& s, ContactMask contact,
                                     bool after_first_state, const State* before_previous, ContactMask previous_contact) {
-    const double stopped_speed = gravity_.norm() * dt_;  // slower than a step of gravity
     for (int i = 0; i < dim_; ++i) {
         for (const int side : {-1, +1}) {
             if (!(((side < 0 ? contact.lower : contact.upper) >> i) & 1u)) continue;
@@ -105,7 +105,7 @@ void StreamRecorder::count_contacts(const State& previous, const State& s, Conta
                     // instant, where the free flight carries it.
                     const double free_speed = side * (before_previous->v[i] + gravity_[i] * (previous.t - before_previous->t));
                     const double braked = free_speed - side * previous.v[i];
-                    if (free_speed > 10 * stopped_speed && braked > std::max(stopped_speed, 0.1 * free_speed)) {
+                    if (free_speed > 10 * stopped_speed_ && braked > std::max(stopped_speed_, 0.1 * free_speed)) {
                         const ImpactVelocities arrival = impact_velocities(*before_previous, previous, i, side, wall, gravity_);
                         at.incoming = arrival.incoming + gravity_ * (at.t - arrival.t);
                         at.incoming[i] = arrival.incoming[i];
@@ -114,7 +114,7 @@ void StreamRecorder::count_contacts(const State& previous, const State& s, Conta
                 const unsigned normal_axes = contact.lower | contact.upper;
                 contact_events_.push_back(measure_contact(at.t, i, side, at.incoming, at.outgoing, dim_, normal_axes));
                 // Stopped: moving away from the wall slower than a step of gravity would.
-                if (-side * at.outgoing[i] <= stopped_speed)
+                if (-side * at.outgoing[i] <= stopped_speed_)
                     stopped_impacts_.push_back({contact_events_.size() - 1, wall, at.incoming, at.outgoing, normal_axes});
             }
         }
@@ -128,7 +128,7 @@ void StreamRecorder::measure_release(const State& stopped, const State& s) {
         const ImpactVelocities release = impact_velocities(stopped, s, e.axis, e.side, impact.wall, gravity_);
         // Released: now moving away faster than a step of gravity (a ball
         // that stays stopped, at rest, keeps the stop as its outgoing).
-        if (-e.side * release.outgoing[e.axis] > gravity_.norm() * dt_) {  // as count_contacts' stopped_speed
+        if (-e.side * release.outgoing[e.axis] > stopped_speed_) {
             Vec3 outgoing = impact.outgoing;
             outgoing[e.axis] = release.outgoing[e.axis];
             e = measure_contact(e.t, e.axis, e.side, impact.incoming, outgoing, dim_, impact.normal_axes);

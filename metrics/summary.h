@@ -300,6 +300,9 @@ private:
     // of the floor with vertical speed below rest_speed_ (see summary.cpp).
     static constexpr int kRestSteps = 10;
     double floor_, rest_height_, rest_speed_, dt_;
+    // A normal speed away from a wall of at most one step of gravity: a ball
+    // the engine stopped on it (count_contacts, measure_release).
+    double stopped_speed_;
     std::optional<double> filled_from_;
     std::int64_t fill_period_ = 0, fill_steps_ = 0;
     // What on_resolved_events measured, applied by finish().
