@@ -89,17 +89,28 @@ function checked(H) {
 // writes them: a probe is set, then a second one, then `other` overwrites
 // the call's argument copies; what still holds the second probe is a
 // candidate (the engine's own copies of the state).
+// Where the velocity was found in the last world this process built. A new
+// world's ball lands at the same place (measured), so that place is tried
+// first: scanning the whole heap (4 M floats) cost 10-20 ms a run, as much as
+// 15% of a seed run's steps at dt = 1e-3.
+let lastVelocityPlace = -1;
+
 function candidates(H, set, other) {
   const a = [0.123456789, -0.234567891, 0.345678912].map(Math.fround);
   const b = [-0.456789123, 0.567891234, -0.678912345].map(Math.fround);
+  const holds = (f, i, v) => f[i] === v[0] && f[i + 1] === v[1] && f[i + 2] === v[2];
   set(a);
   let f = H.HEAPF32;
+  const hinted = lastVelocityPlace >= 0 && lastVelocityPlace + 2 < f.length && holds(f, lastVelocityPlace, a);
   const hits = [];
-  for (let i = 0; i + 2 < f.length; ++i) if (f[i] === a[0] && f[i + 1] === a[1] && f[i + 2] === a[2]) hits.push(i);
+  if (hinted) hits.push(lastVelocityPlace);
+  else for (let i = 0; i + 2 < f.length; ++i) if (holds(f, i, a)) hits.push(i);
   set(b);
   other();
   f = H.HEAPF32;
-  return hits.filter((i) => f[i] === b[0] && f[i + 1] === b[1] && f[i + 2] === b[2]);
+  const places = hits.filter((i) => holds(f, i, b));
+  // A hint that failed the second test: scan after all.
+  return hinted && places.length === 0 ? (lastVelocityPlace = -1, candidates(H, set, other)) : places;
 }
 
 function build(H, s, settings) {
@@ -200,7 +211,7 @@ function build(H, s, settings) {
     ++readsByCall;
     if (velocityPlaces.length > 0) {
       velocityPlaces = velocityPlaces.filter((i) => holds(i, v));
-      if (velocityPlaces.length === 1 && readsByCall >= 2) { velAt = velocityPlaces[0]; describeStateRead(); }
+      if (velocityPlaces.length === 1 && readsByCall >= 2) { velAt = lastVelocityPlace = velocityPlaces[0]; describeStateRead(); }
     }
   }
 
