@@ -90,7 +90,8 @@ int main(int argc, char** argv) {
     const std::vector<Command> commands = {add_run_command(app),       add_validate_command(app),
                                            add_list_command(app),      add_calibrate_command(app),
                                            add_sweep_command(app),     add_stress_command(app),
-                                           add_diff_command(app),      add_merge_command(app)};
+                                           add_diff_command(app),      add_merge_command(app),
+                                           add_table_command(app)};
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

@@ -55,6 +55,7 @@ Command add_sweep_command(CLI::App& app);
 Command add_stress_command(CLI::App& app);
 Command add_diff_command(CLI::App& app);
 Command add_merge_command(CLI::App& app);
+Command add_table_command(CLI::App& app);
 
 struct DiffJudging;
 // --tolerance and --timing-ratio, for `diff` and `run --baseline` (`what` prefixes their help).

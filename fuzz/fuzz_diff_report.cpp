@@ -5,9 +5,11 @@
 // the file, and throw nothing. A report it loads is then diffed against
 // itself and rendered as `diff` does: a report equals itself, so every
 // timing's ratio is 1 and no change may show. Anything else, or a crash or
-// a sanitizer report, is a finding.
+// a sanitizer report, is a finding. `bouncecheck table` renders each loaded
+// report too (reports/engine_table.h).
 #include "commands/diff/diff_pipeline.h"
 
+#include "reports/engine_table.h"
 #include "reports/json_number.h"
 
 #include <cstddef>
@@ -81,6 +83,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         (void)bouncecheck::format_diff(d, all);
         (void)bouncecheck::diff_markdown(d, all);
         (void)bouncecheck::json_text(bouncecheck::diff_json(d), 2);
+        // `bouncecheck table` renders what the same reader accepts.
+        (void)bouncecheck::engine_table_markdown(report.json);
     } catch (const std::exception& e) {
         finding("an exception escaped", e.what());
     }
