@@ -26,7 +26,7 @@
 // in the step in which the ball stops moving into such a wall, and the other
 // velocity component is scaled by beta then, once.
 
-import { serve, ScenarioError, TurnedContacts, roomWalls } from './host/protocol.mjs';
+import { serve, ScenarioError, TurnedContacts, roomWalls, ownKey, count1, nonNegative, trueOrFalse } from './host/protocol.mjs';
 
 // The package's `compat` build (no SIMD, no threads), loaded by its path: the
 // package's entry point picks its `deluxe` build (SIMD, a pool of 4 pthreads)
@@ -50,16 +50,6 @@ const ownKeys = {
 
 function fail(message) { throw new ScenarioError(message); }
 
-function option(s, key, fallback, kind) {
-  const v = s.engine[key];
-  if (v === undefined) return fallback;
-  const where = `[engines.box2d3] ${key}`;
-  if (kind === 'number' && !(typeof v === 'number' && Number.isFinite(v) && v >= 0)) fail(`${where} must be a number >= 0`);
-  if (kind === 'count1' && !(Number.isInteger(v) && v >= 1)) fail(`${where} must be an integer >= 1`);
-  if (kind === 'boolean' && typeof v !== 'boolean') fail(`${where} must be true or false`);
-  return v;
-}
-
 const adapter = {
   name: 'box2d3',
   dimensions: [2],
@@ -80,20 +70,20 @@ const adapter = {
     if (e.tangential_model !== 'friction' && !perContact) fail('[engines.box2d3] tangential_model must be "friction" or "per-contact"');
     if (e.rotation !== 'free' && e.rotation !== 'locked') fail('[engines.box2d3] rotation must be "free" or "locked"');
     if (perContact && e.friction !== 0) fail('[engines.box2d3] per-contact mode runs with friction 0');
-    const mu = perContact ? 0 : option(s, 'friction', 0, 'number');
+    const mu = perContact ? 0 : e.friction;
     const ccd = e.ccd === undefined ? true : e.ccd;
     if (typeof ccd !== 'boolean') fail('[engines.box2d3] ccd must be true or false');
 
-    const threshold = option(s, 'restitution_threshold', 0, 'number');
-    const wallRestitution = option(s, 'wall_restitution', s.alpha, 'number');
-    const wallFriction = option(s, 'wall_friction', mu, 'number');
-    const sleeping = option(s, 'sleeping', false, 'boolean');
-    const substepCount = option(s, 'substep_count', 4, 'count1');
-    const hertz = option(s, 'contact_hertz', 30, 'number');
-    const dampingRatio = option(s, 'contact_damping_ratio', 10, 'number');
-    const pushSpeed = option(s, 'contact_push_speed', 3, 'number');
-    const linearDamping = option(s, 'linear_damping', 0, 'number');
-    const angularDamping = option(s, 'angular_damping', 0, 'number');
+    const threshold = ownKey(s, 'restitution_threshold', 0, nonNegative);
+    const wallRestitution = ownKey(s, 'wall_restitution', s.alpha, nonNegative);
+    const wallFriction = ownKey(s, 'wall_friction', mu, nonNegative);
+    const sleeping = ownKey(s, 'sleeping', false, trueOrFalse);
+    const substepCount = ownKey(s, 'substep_count', 4, count1);
+    const hertz = ownKey(s, 'contact_hertz', 30, nonNegative);
+    const dampingRatio = ownKey(s, 'contact_damping_ratio', 10, nonNegative);
+    const pushSpeed = ownKey(s, 'contact_push_speed', 3, nonNegative);
+    const linearDamping = ownKey(s, 'linear_damping', 0, nonNegative);
+    const angularDamping = ownKey(s, 'angular_damping', 0, nonNegative);
     const B = lib;
 
     const vec = (x, y) => new B.b2Vec2(x, y);

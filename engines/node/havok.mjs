@@ -23,7 +23,7 @@
 
 import fs from 'node:fs';
 import { createRequire } from 'node:module';
-import { serve, ScenarioError, maxBallSpeed, roomWalls, ContactStarts } from './host/protocol.mjs';
+import { serve, ScenarioError, maxBallSpeed, roomWalls, ContactStarts, ownKey, nonNegative, oneOf, trueOrFalse } from './host/protocol.mjs';
 
 // Havok's own defaults (HP_World_Create, HP_Body_Create, HP_Shape_Create*, measured by reading them back).
 const HAVOK = {
@@ -39,6 +39,7 @@ const HAVOK = {
 };
 
 const COMBINES = ['GEOMETRIC_MEAN', 'MINIMUM', 'MAXIMUM', 'ARITHMETIC_MEAN', 'MULTIPLY'];
+const COMBINE_RULE = oneOf(...COMBINES);  // the kind of the *_combine keys
 
 const ownKeys = {
   ideal_step_time: 'HP_World_SetIdealStepTime (s): the step the solver\'s stiffness is tuned for; 0 turns the adjustment off (Havok: 1/60; here: dt)',
@@ -54,25 +55,6 @@ const ownKeys = {
 };
 
 function fail(message) { throw new ScenarioError(message); }
-
-function numberKey(e, key, chosen, { min = -Infinity } = {}) {
-  if (!(key in e)) return chosen;
-  const v = e[key];
-  if (typeof v !== 'number' || !Number.isFinite(v) || v < min) fail(`[engines.havok] ${key} must be a number >= ${min} (got ${JSON.stringify(v)})`);
-  return v;
-}
-
-function boolKey(e, key, chosen) {
-  if (!(key in e)) return chosen;
-  if (typeof e[key] !== 'boolean') fail(`[engines.havok] ${key} must be true or false`);
-  return e[key];
-}
-
-function combineKey(e, key) {
-  if (!(key in e)) return HAVOK.combine;
-  if (!COMBINES.includes(e[key])) fail(`[engines.havok] ${key} must be one of ${COMBINES.join(', ')}`);
-  return e[key];
-}
 
 // Every HP_ call returns [Result, ...]: anything but RESULT_OK fails the run with the call's name.
 function checked(H) {
@@ -127,16 +109,16 @@ function build(H, s, settings) {
   const vmax = maxBallSpeed(s);
   const locked = e.rotation === 'locked';
 
-  const idealStep = numberKey(e, 'ideal_step_time', dt, { min: 0 });
-  const linearDamping = numberKey(e, 'linear_damping', 0, { min: 0 });
-  const angularDamping = numberKey(e, 'angular_damping', 0, { min: 0 });
-  const alwaysActive = boolKey(e, 'always_active', true);
-  const maxLinear = numberKey(e, 'max_linear_velocity', Math.max(HAVOK.max_linear_velocity, 2 * vmax), { min: 0 });
-  const maxAngular = numberKey(e, 'max_angular_velocity', Math.max(HAVOK.max_angular_velocity, 2 * vmax / s.radius), { min: 0 });
-  const wallFriction = numberKey(e, 'wall_friction', mu, { min: 0 });
-  const wallRestitution = numberKey(e, 'wall_restitution', s.alpha, { min: 0 });
-  const frictionCombine = combineKey(e, 'friction_combine');
-  const restitutionCombine = combineKey(e, 'restitution_combine');
+  const idealStep = ownKey(s, 'ideal_step_time', dt, nonNegative);
+  const linearDamping = ownKey(s, 'linear_damping', 0, nonNegative);
+  const angularDamping = ownKey(s, 'angular_damping', 0, nonNegative);
+  const alwaysActive = ownKey(s, 'always_active', true, trueOrFalse);
+  const maxLinear = ownKey(s, 'max_linear_velocity', Math.max(HAVOK.max_linear_velocity, 2 * vmax), nonNegative);
+  const maxAngular = ownKey(s, 'max_angular_velocity', Math.max(HAVOK.max_angular_velocity, 2 * vmax / s.radius), nonNegative);
+  const wallFriction = ownKey(s, 'wall_friction', mu, nonNegative);
+  const wallRestitution = ownKey(s, 'wall_restitution', s.alpha, nonNegative);
+  const frictionCombine = ownKey(s, 'friction_combine', HAVOK.combine, COMBINE_RULE);
+  const restitutionCombine = ownKey(s, 'restitution_combine', HAVOK.combine, COMBINE_RULE);
   const FC = H.MaterialCombine[frictionCombine], RC = H.MaterialCombine[restitutionCombine];
 
   // ---- The world ----

@@ -29,7 +29,7 @@
 // default back; each goes into the run's settings with what Jolt's default
 // did, measured (docs/engines.md, Jolt).
 
-import { serve, ScenarioError, maxBallSpeed, roomWalls } from './host/protocol.mjs';
+import { serve, ScenarioError, maxBallSpeed, roomWalls, ownKey, aNumberAtLeast, count0, count1, nonNegative, trueOrFalse } from './host/protocol.mjs';
 
 // Jolt's own defaults (PhysicsSettings.h, BodyCreationSettings.h, MotionProperties).
 const JOLT = {
@@ -74,20 +74,6 @@ const ownKeys = {
 
 function fail(message) { throw new ScenarioError(message); }
 
-function numberKey(e, key, chosen, { min = -Infinity, integer = false } = {}) {
-  if (!(key in e)) return chosen;
-  const v = e[key];
-  if (typeof v !== 'number' || !Number.isFinite(v) || v < min || (integer && !Number.isInteger(v)))
-    fail(`[engines.jolt] ${key} must be a${integer ? 'n integer' : ' number'} >= ${min} (got ${JSON.stringify(v)})`);
-  return v;
-}
-
-function boolKey(e, key, chosen) {
-  if (!(key in e)) return chosen;
-  if (typeof e[key] !== 'boolean') fail(`[engines.jolt] ${key} must be true or false`);
-  return e[key];
-}
-
 function build(J, s, settings) {
   const e = s.engine;
   const d = 3;
@@ -104,23 +90,23 @@ function build(J, s, settings) {
   // ---- The chosen values (each one a key; the default is the choice) ----
   // Jolt asks for a positive value; a resting ball is not bounced at any (its
   // bounce target is the velocity before the step's gravity, 0).
-  const minRestitutionSpeed = numberKey(e, 'min_velocity_for_restitution', 1e-9, { min: 0 });
-  const linearDamping = numberKey(e, 'linear_damping', 0, { min: 0 });
-  const angularDamping = numberKey(e, 'angular_damping', 0, { min: 0 });
-  const allowSleeping = boolKey(e, 'allow_sleeping', false);
-  const slop = numberKey(e, 'penetration_slop', Math.min(JOLT.penetration_slop, 0.01 * s.radius), { min: 0 });
-  const speculative = numberKey(e, 'speculative_contact_distance', 0, { min: 0 });
-  const baumgarte = numberKey(e, 'baumgarte', JOLT.baumgarte, { min: 0 });
-  const velocitySteps = numberKey(e, 'velocity_steps', JOLT.velocity_steps, { min: 1, integer: true });
-  const positionSteps = numberKey(e, 'position_steps', JOLT.position_steps, { min: 0, integer: true });
-  const maxLinear = numberKey(e, 'max_linear_velocity', Math.max(JOLT.max_linear_velocity, 2 * vmax), { min: 0 });
-  const maxAngular = numberKey(e, 'max_angular_velocity', Math.max(JOLT.max_angular_velocity, 2 * vmax / s.radius), { min: 0 });
-  const wallFriction = numberKey(e, 'wall_friction', mu, { min: 0 });
-  const wallRestitution = numberKey(e, 'wall_restitution', s.alpha, { min: 0 });
-  const castThreshold = numberKey(e, 'linear_cast_threshold', 0.01, { min: 0 });
-  const castPenetration = numberKey(e, 'linear_cast_max_penetration', JOLT.linear_cast_max_penetration, { min: 0 });
-  const ballMass = numberKey(e, 'ball_mass', 1 / (s.radius * s.radius), { min: Number.MIN_VALUE });
-  const bodyPairCache = boolKey(e, 'body_pair_cache', false);
+  const minRestitutionSpeed = ownKey(s, 'min_velocity_for_restitution', 1e-9, nonNegative);
+  const linearDamping = ownKey(s, 'linear_damping', 0, nonNegative);
+  const angularDamping = ownKey(s, 'angular_damping', 0, nonNegative);
+  const allowSleeping = ownKey(s, 'allow_sleeping', false, trueOrFalse);
+  const slop = ownKey(s, 'penetration_slop', Math.min(JOLT.penetration_slop, 0.01 * s.radius), nonNegative);
+  const speculative = ownKey(s, 'speculative_contact_distance', 0, nonNegative);
+  const baumgarte = ownKey(s, 'baumgarte', JOLT.baumgarte, nonNegative);
+  const velocitySteps = ownKey(s, 'velocity_steps', JOLT.velocity_steps, count1);
+  const positionSteps = ownKey(s, 'position_steps', JOLT.position_steps, count0);
+  const maxLinear = ownKey(s, 'max_linear_velocity', Math.max(JOLT.max_linear_velocity, 2 * vmax), nonNegative);
+  const maxAngular = ownKey(s, 'max_angular_velocity', Math.max(JOLT.max_angular_velocity, 2 * vmax / s.radius), nonNegative);
+  const wallFriction = ownKey(s, 'wall_friction', mu, nonNegative);
+  const wallRestitution = ownKey(s, 'wall_restitution', s.alpha, nonNegative);
+  const castThreshold = ownKey(s, 'linear_cast_threshold', 0.01, nonNegative);
+  const castPenetration = ownKey(s, 'linear_cast_max_penetration', JOLT.linear_cast_max_penetration, nonNegative);
+  const ballMass = ownKey(s, 'ball_mass', 1 / (s.radius * s.radius), aNumberAtLeast(Number.MIN_VALUE));
+  const bodyPairCache = ownKey(s, 'body_pair_cache', false, trueOrFalse);
   const ccd = e.ccd ?? true;
   const locked = e.rotation === 'locked';
 

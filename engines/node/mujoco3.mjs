@@ -29,7 +29,8 @@
 // normal is scaled by beta in d.qvel, mj_fwdVelocity recomputes the
 // velocity-dependent terms, and mj_step2 solves and integrates from the
 // scaled velocity. This is the compiled adapter's hook, call for call.
-import { serve, ScenarioError, roomWalls, maxBallSpeed, movesIntoWall } from './host/protocol.mjs';
+import { serve, ScenarioError, roomWalls, maxBallSpeed, movesIntoWall,
+  ownKey, nonNegative, positive, count0, count1, trueOrFalse, oneOf, either, numbers } from './host/protocol.mjs';
 
 const mjMINIMP = 0.0001, mjMAXIMP = 0.9999;  // engine_core_constraint.c's impedance clamp
 
@@ -57,34 +58,25 @@ const num = (x) => String(x);  // JS numbers print in shortest round-trip form
 
 // ---- The own keys, checked ----
 
-function isNumber(x) { return typeof x === 'number' && Number.isFinite(x); }
-function option(s, key, fallback, check, what) {
-  const given = s.engine[key];
-  if (given === undefined) return fallback;
-  if (!check(given)) throw new ScenarioError(`[engines.${s.engineName}] ${key} must be ${what} (got ${JSON.stringify(given)})`);
-  return given;
-}
-function numberArray(n) { return (x) => Array.isArray(x) && x.length === n && x.every(isNumber); }
-
 function tuning(s) {
   return {
-    solref: option(s, 'solref', 'damper', (x) => x === 'damper' || numberArray(2)(x), '"damper" or two numbers'),
-    solimp: option(s, 'solimp', [mjMAXIMP, mjMAXIMP, 0.001, 0.5, 2], numberArray(5), 'five numbers'),
-    damper_anchor: option(s, 'damper_anchor', 1e-4, (x) => isNumber(x) && x >= 0, 'a number >= 0'),
-    impedance_correction: option(s, 'impedance_correction', true, (x) => typeof x === 'boolean', 'true or false'),
-    condim: option(s, 'condim', 'auto', (x) => x === 'auto' || [1, 3, 4, 6].includes(x), '"auto", 1, 3, 4 or 6'),
-    wall_friction: option(s, 'wall_friction', 'ball', (x) => x === 'ball' || (isNumber(x) && x >= 0), '"ball" or a number >= 0'),
-    cone: option(s, 'cone', 'elliptic', (x) => x === 'elliptic' || x === 'pyramidal', '"elliptic" or "pyramidal"'),
-    integrator: option(s, 'integrator', 'Euler', (x) => ['Euler', 'implicit', 'implicitfast', 'RK4'].includes(x), '"Euler", "implicit", "implicitfast" or "RK4"'),
-    timestep: option(s, 'timestep', 'dt', (x) => x === 'dt' || (isNumber(x) && x > 0), '"dt" or a number > 0'),
-    gravity: option(s, 'gravity', 'scenario', (x) => x === 'scenario' || numberArray(3)(x), '"scenario" or three numbers'),
-    impratio: option(s, 'impratio', 1, (x) => isNumber(x) && x > 0, 'a number > 0'),
-    noslip_iterations: option(s, 'noslip_iterations', 0, (x) => Number.isInteger(x) && x >= 0, 'an integer >= 0'),
-    margin: option(s, 'margin', 0, (x) => isNumber(x) && x >= 0, 'a number >= 0'),
-    ball_mass: option(s, 'ball_mass', 1, (x) => isNumber(x) && x >= 0, 'a number >= 0'),
-    beta_hook: option(s, 'beta_hook', 'split', (x) => x === 'split' || x === 'after', '"split" or "after"'),
-    fail_on_warning: option(s, 'fail_on_warning', true, (x) => typeof x === 'boolean', 'true or false'),
-    inner_steps: option(s, 'inner_steps', 'auto', (x) => x === 'auto' || (Number.isInteger(x) && x >= 1), '"auto" or an integer >= 1'),
+    solref: ownKey(s, 'solref', 'damper', either(oneOf('damper'), numbers(2))),
+    solimp: ownKey(s, 'solimp', [mjMAXIMP, mjMAXIMP, 0.001, 0.5, 2], numbers(5)),
+    damper_anchor: ownKey(s, 'damper_anchor', 1e-4, nonNegative),
+    impedance_correction: ownKey(s, 'impedance_correction', true, trueOrFalse),
+    condim: ownKey(s, 'condim', 'auto', oneOf('auto', 1, 3, 4, 6)),
+    wall_friction: ownKey(s, 'wall_friction', 'ball', either(oneOf('ball'), nonNegative)),
+    cone: ownKey(s, 'cone', 'elliptic', oneOf('elliptic', 'pyramidal')),
+    integrator: ownKey(s, 'integrator', 'Euler', oneOf('Euler', 'implicit', 'implicitfast', 'RK4')),
+    timestep: ownKey(s, 'timestep', 'dt', either(oneOf('dt'), positive)),
+    gravity: ownKey(s, 'gravity', 'scenario', either(oneOf('scenario'), numbers(3))),
+    impratio: ownKey(s, 'impratio', 1, positive),
+    noslip_iterations: ownKey(s, 'noslip_iterations', 0, count0),
+    margin: ownKey(s, 'margin', 0, nonNegative),
+    ball_mass: ownKey(s, 'ball_mass', 1, nonNegative),
+    beta_hook: ownKey(s, 'beta_hook', 'split', oneOf('split', 'after')),
+    fail_on_warning: ownKey(s, 'fail_on_warning', true, trueOrFalse),
+    inner_steps: ownKey(s, 'inner_steps', 'auto', either(oneOf('auto'), count1)),
   };
 }
 
@@ -189,7 +181,6 @@ const adapter = {
   version: (mj) => `MuJoCo ${mj.mj_versionString()}`,
   build(mj, s, settings) {
     const d = s.dimension;
-    s.engineName = 'mujoco3';
     const t = tuning(s);
     if (s.engine.ccd === true) throw new ScenarioError('MuJoCo has no continuous collision detection: use substeps');
     const perContact = s.engine.tangential_model === 'per-contact';

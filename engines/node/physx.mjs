@@ -41,7 +41,8 @@
 // on the velocity the step started from.
 import fs from 'node:fs';
 import { createRequire } from 'node:module';
-import { serve, ScenarioError, roomWalls, maxBallSpeed, ContactStarts } from './host/protocol.mjs';
+import { serve, ScenarioError, roomWalls, maxBallSpeed, ContactStarts,
+  ownKey, positive, nonNegative, count1, anIntegerIn, oneOf, either, listOf } from './host/protocol.mjs';
 
 const require = createRequire(import.meta.url);
 
@@ -63,29 +64,24 @@ const ownKeys = {
 
 const COMBINE = { average: 'eAVERAGE', min: 'eMIN', max: 'eMAX', multiply: 'eMULTIPLY' };
 
-function isNumber(x) { return typeof x === 'number' && Number.isFinite(x); }
-function option(s, key, fallback, check, what) {
-  const given = s.engine[key];
-  if (given === undefined) return fallback;
-  if (!check(given)) throw new ScenarioError(`[engines.physx] ${key} must be ${what} (got ${JSON.stringify(given)})`);
-  return given;
-}
+const COMBINE_RULE = oneOf(...Object.keys(COMBINE));
+const AUTO = oneOf('auto');
 
 function tuning(s) {
   return {
-    bounce_threshold: option(s, 'bounce_threshold', 1e-6, (x) => isNumber(x) && x > 0, 'a number > 0'),
-    solver: option(s, 'solver', 'PGS', (x) => x === 'PGS' || x === 'TGS', '"PGS" or "TGS"'),
-    restitution_combine: option(s, 'restitution_combine', 'average', (x) => x in COMBINE, Object.keys(COMBINE).join(', ')),
-    friction_combine: option(s, 'friction_combine', 'average', (x) => x in COMBINE, Object.keys(COMBINE).join(', ')),
-    contact_offset: option(s, 'contact_offset', 'auto', (x) => x === 'auto' || (isNumber(x) && x > 0), '"auto" or a number > 0'),
-    rest_offset: option(s, 'rest_offset', 0, (x) => isNumber(x) && x >= 0, 'a number >= 0'),
-    ccd_max_separation: option(s, 'ccd_max_separation', 'auto', (x) => x === 'auto' || (isNumber(x) && x >= 0), '"auto" or a number >= 0'),
-    sleep_threshold: option(s, 'sleep_threshold', 0, (x) => isNumber(x) && x >= 0, 'a number >= 0'),
-    linear_damping: option(s, 'linear_damping', 0, (x) => isNumber(x) && x >= 0, 'a number >= 0'),
-    angular_damping: option(s, 'angular_damping', 0, (x) => isNumber(x) && x >= 0, 'a number >= 0'),
-    max_angular_velocity: option(s, 'max_angular_velocity', 1e7, (x) => isNumber(x) && x > 0, 'a number > 0'),
-    inner_steps: option(s, 'inner_steps', 'auto', (x) => x === 'auto' || (Number.isInteger(x) && x >= 1), '"auto" or an integer >= 1'),
-    iterations: option(s, 'iterations', [4, 1], (x) => Array.isArray(x) && x.length === 2 && x.every((n) => Number.isInteger(n) && n >= 1 && n <= 255), '[position, velocity], integers 1..255'),
+    bounce_threshold: ownKey(s, 'bounce_threshold', 1e-6, positive),
+    solver: ownKey(s, 'solver', 'PGS', oneOf('PGS', 'TGS')),
+    restitution_combine: ownKey(s, 'restitution_combine', 'average', COMBINE_RULE),
+    friction_combine: ownKey(s, 'friction_combine', 'average', COMBINE_RULE),
+    contact_offset: ownKey(s, 'contact_offset', 'auto', either(AUTO, positive)),
+    rest_offset: ownKey(s, 'rest_offset', 0, nonNegative),
+    ccd_max_separation: ownKey(s, 'ccd_max_separation', 'auto', either(AUTO, nonNegative)),
+    sleep_threshold: ownKey(s, 'sleep_threshold', 0, nonNegative),
+    linear_damping: ownKey(s, 'linear_damping', 0, nonNegative),
+    angular_damping: ownKey(s, 'angular_damping', 0, nonNegative),
+    max_angular_velocity: ownKey(s, 'max_angular_velocity', 1e7, positive),
+    inner_steps: ownKey(s, 'inner_steps', 'auto', either(AUTO, count1)),
+    iterations: ownKey(s, 'iterations', [4, 1], listOf(2, anIntegerIn(1, 255), '[position, velocity], integers 1..255')),
   };
 }
 

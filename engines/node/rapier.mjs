@@ -28,9 +28,10 @@
 // stopped moving into such a wall: the other velocity components are scaled by
 // beta then, once, before the next step.
 
-import { serve, ScenarioError, TurnedContacts, roomWalls } from './host/protocol.mjs';
+import { serve, ScenarioError, TurnedContacts, roomWalls, ownKey, count0, count1, nonNegative, positive, trueOrFalse, oneOf } from './host/protocol.mjs';
 
 const RULES = { average: 0, min: 1, multiply: 2, max: 3 };
+const RULE = oneOf(...Object.keys(RULES));  // the kind of the *_combine keys
 
 const ownKeys = {
   wall_restitution: 'restitution of the walls (default: alpha, as the ball; Rapier default 0)',
@@ -51,20 +52,6 @@ const ownKeys = {
 };
 
 function fail(message) { throw new ScenarioError(message); }
-
-// The [engines.rapier] value of `key`, checked, or `fallback`.
-function option(s, key, fallback, kind) {
-  const v = s.engine[key];
-  if (v === undefined) return fallback;
-  const where = `[engines.rapier] ${key}`;
-  if (kind === 'number' && !(typeof v === 'number' && Number.isFinite(v) && v >= 0)) fail(`${where} must be a number >= 0`);
-  if (kind === 'positive' && !(typeof v === 'number' && Number.isFinite(v) && v > 0)) fail(`${where} must be a number > 0`);
-  if (kind === 'count' && !(Number.isInteger(v) && v >= 0)) fail(`${where} must be an integer >= 0`);
-  if (kind === 'count1' && !(Number.isInteger(v) && v >= 1)) fail(`${where} must be an integer >= 1`);
-  if (kind === 'boolean' && typeof v !== 'boolean') fail(`${where} must be true or false`);
-  if (kind === 'rule' && !Object.prototype.hasOwnProperty.call(RULES, v)) fail(`${where} must be one of ${Object.keys(RULES).join(', ')}`);
-  return v;
-}
 
 const adapter = {
   name: 'rapier',
@@ -88,26 +75,26 @@ const adapter = {
     const perContact = e.tangential_model === 'per-contact';
     if (e.tangential_model !== 'friction' && !perContact) fail(`[engines.rapier] tangential_model must be "friction" or "per-contact"`);
     if (e.rotation !== 'free' && e.rotation !== 'locked') fail(`[engines.rapier] rotation must be "free" or "locked"`);
-    const mu = perContact ? 0 : option(s, 'friction', 0, 'number');
+    const mu = perContact ? 0 : e.friction;
     if (perContact && e.friction !== undefined && e.friction !== 0) fail('[engines.rapier] per-contact mode runs with friction 0');
     const ccd = e.ccd === undefined ? true : e.ccd;
     if (typeof ccd !== 'boolean') fail('[engines.rapier] ccd must be true or false');
 
-    const wallRestitution = option(s, 'wall_restitution', s.alpha, 'number');
-    const restitutionRule = option(s, 'restitution_combine', 'average', 'rule');
-    const wallFriction = option(s, 'wall_friction', mu, 'number');
-    const frictionRule = option(s, 'friction_combine', 'average', 'rule');
-    const sleeping = option(s, 'sleeping', false, 'boolean');
-    const linearDamping = option(s, 'linear_damping', 0, 'number');
-    const angularDamping = option(s, 'angular_damping', 0, 'number');
-    const timestep = option(s, 'timestep', s.dt, 'positive');
-    const iterations = option(s, 'solver_iterations', 4, 'count1');
-    const pgs = option(s, 'pgs_iterations', 1, 'count1');
-    const prediction = option(s, 'prediction_distance', 0, 'number');
-    const linearError = option(s, 'allowed_linear_error', 0.005, 'number');
-    const lengthUnit = option(s, 'length_unit', 1, 'positive');
-    const softCcd = option(s, 'soft_ccd_prediction', Math.max(...s.room), 'number');
-    const ccdSubsteps = option(s, 'max_ccd_substeps', ccd ? 1 : 0, 'count');
+    const wallRestitution = ownKey(s, 'wall_restitution', s.alpha, nonNegative);
+    const restitutionRule = ownKey(s, 'restitution_combine', 'average', RULE);
+    const wallFriction = ownKey(s, 'wall_friction', mu, nonNegative);
+    const frictionRule = ownKey(s, 'friction_combine', 'average', RULE);
+    const sleeping = ownKey(s, 'sleeping', false, trueOrFalse);
+    const linearDamping = ownKey(s, 'linear_damping', 0, nonNegative);
+    const angularDamping = ownKey(s, 'angular_damping', 0, nonNegative);
+    const timestep = ownKey(s, 'timestep', s.dt, positive);
+    const iterations = ownKey(s, 'solver_iterations', 4, count1);
+    const pgs = ownKey(s, 'pgs_iterations', 1, count1);
+    const prediction = ownKey(s, 'prediction_distance', 0, nonNegative);
+    const linearError = ownKey(s, 'allowed_linear_error', 0.005, nonNegative);
+    const lengthUnit = ownKey(s, 'length_unit', 1, positive);
+    const softCcd = ownKey(s, 'soft_ccd_prediction', Math.max(...s.room), nonNegative);
+    const ccdSubsteps = ownKey(s, 'max_ccd_substeps', ccd ? 1 : 0, count0);
 
     const vec = d === 3 ? (a) => ({ x: a[0], y: a[1], z: a[2] }) : (a) => ({ x: a[0], y: a[1] });
     const world = new R.World(vec(s.gravity));

@@ -17,7 +17,7 @@
 //   packages(d)   the npm packages the engine uses in dimension d
 //   ownKeys       { key: "what it does" }: the [engines.<name>] keys it reads
 //                 besides the shared ones (tangential_model, friction,
-//                 rotation, substeps, ccd)
+//                 rotation, substeps, ccd), each with ownKey below
 //   load(d)       (async) the engine's module, loaded once per process and d
 //   version(lib)  the engine's own version text, if it says one
 //   build(lib, scenario, settings)
@@ -190,8 +190,48 @@ function readScenario(text, adapter) {
   if (engine.tangential_model === 'per-contact' && engine.friction !== 0)
     fail(`${where} friction applies only with tangential_model = "friction" (per-contact runs with mu = 0)`);
   if (engine.ccd !== undefined && typeof engine.ccd !== 'boolean') fail(`${where} ccd must be true or false`);
-  return { ...s, engine };
+  // engineName: the adapter's name, for ownKey's messages ([engines.<name>]),
+  // so that no engine file writes its own name into them.
+  return { ...s, engine, engineName: adapter.name };
 }
+
+// One of the engine's own keys, `[engines.<name>] <key>`: `chosen` (the
+// adapter's default) when the key is not in the table, else the value given,
+// which must pass `kind`, a pair [check, what]: a predicate and the text of
+// what it asks for. Every engine file reads its own keys through this one
+// function, so they are all checked alike and fail with the same message:
+//   [engines.<name>] <key> must be <what> (got <the value as JSON>)
+export function ownKey(s, key, chosen, [check, what]) {
+  if (!Object.hasOwn(s.engine, key)) return chosen;
+  const given = s.engine[key];
+  if (!check(given)) fail(`[engines.${s.engineName}] ${key} must be ${what} (got ${JSON.stringify(given)})`);
+  return given;
+}
+
+// Kinds for ownKey. A number is a finite one (JSON's 1e999 parses to Infinity).
+const isNumber = (x) => typeof x === 'number' && Number.isFinite(x);
+export const aNumber = [isNumber, 'a number'];
+export const aNumberAtLeast = (min) => [(x) => isNumber(x) && x >= min, `a number >= ${min}`];
+export const aNumberAbove = (min) => [(x) => isNumber(x) && x > min, `a number > ${min}`];
+export const anIntegerAtLeast = (min) => [(x) => Number.isInteger(x) && x >= min, `an integer >= ${min}`];
+export const anIntegerIn = (min, max) => [(x) => Number.isInteger(x) && x >= min && x <= max, `an integer ${min}..${max}`];
+export const nonNegative = aNumberAtLeast(0);    // a number >= 0
+export const positive = aNumberAbove(0);         // a number > 0
+export const count0 = anIntegerAtLeast(0);       // an integer >= 0
+export const count1 = anIntegerAtLeast(1);       // an integer >= 1
+export const trueOrFalse = [(x) => typeof x === 'boolean', 'true or false'];
+// One of the given values (compared with ===): "PGS" or "TGS"; "auto", 1, 3, 4 or 6.
+export function oneOf(...values) {
+  const shown = values.map((v) => JSON.stringify(v));
+  const what = shown.length > 1 ? `${shown.slice(0, -1).join(', ')} or ${shown.at(-1)}` : shown[0];
+  return [(x) => values.includes(x), what];
+}
+// An array of n values, each passing `kind`'s check: listOf(2, anIntegerIn(1, 255), '[position, velocity], integers 1..255').
+export const listOf = (n, [check], what) => [(x) => Array.isArray(x) && x.length === n && x.every((v) => check(v)), what];
+const WORDS = ['no', 'one', 'two', 'three', 'four', 'five', 'six', 'seven', 'eight', 'nine'];
+export const numbers = (n) => listOf(n, aNumber, `${WORDS[n] ?? n} numbers`);
+// Any of the kinds: either(oneOf('auto'), positive) is "auto" or a number > 0.
+export const either = (...kinds) => [(x) => kinds.some(([check]) => check(x)), kinds.map(([, what]) => what).join(' or ')];
 
 // ---- The run ----
 
@@ -219,6 +259,7 @@ function warmUp(adapter, lib, dimension) {
       position: vector([0.3, 0.4, 0.5]), velocity: vector([1.5, -1, 0.5]), gravity, alpha: 0.8, beta: 0.99,
       dt: 1e-3, duration: WARM_UP_STEPS * 1e-3, steps: WARM_UP_STEPS,
       engine: { tangential_model, friction: tangential_model === 'friction' ? 0.1 : 0, rotation: 'free', substeps: 1 },
+      engineName: adapter.name,
     };
     const world = adapter.build(lib, s, new Settings());
     try {
