@@ -61,8 +61,12 @@ std::string short_engine(const std::string& engine) {
     return engine.size() > kLongest ? engine.substr(0, engine.find(" (")) : engine;
 }
 
-// The precision's first word ("double (sizeof(btScalar) = 8, ...)" -> "double").
-std::string short_precision(const std::string& precision) { return precision.substr(0, precision.find(" (")); }
+// The precision in one vocabulary: the compiled engines say "double (...)"
+// or "float", the Node-hosted ones "f64" or "f32".
+std::string short_precision(const std::string& precision) {
+    const std::string word = precision.substr(0, precision.find(" ("));
+    return word == "double" ? "f64" : word == "float" ? "f32" : word;
+}
 
 std::string percent(std::optional<double> v) { return v ? fmt::format("{:.3f}%", 100 * *v) : "-"; }
 std::string fixed(std::optional<double> v, int digits) { return v ? fmt::format("{:.{}f}", *v, digits) : "-"; }

@@ -69,7 +69,7 @@ TEST(EngineTable, EachRowReadsItsSimulatorsFiguresAgainstExact) {
     const auto cells = row_of(table, "s", "a");
     ASSERT_EQ(cells.size(), 10u) << table;
     EXPECT_EQ(cells[2], "Engine 1.2 (npm engine 1.2.0)");
-    EXPECT_EQ(cells[3], "double");      // the precision's first words
+    EXPECT_EQ(cells[3], "f64");         // "double (...)", in the Node engines' words
     EXPECT_EQ(cells[4], "1.000%");      // |1.01 - 1| / 1
     EXPECT_EQ(cells[5], "2.000%");      // the worst of apexes 1-3: apex 4 is not counted
     EXPECT_EQ(cells[6], "0.7900");      // alpha measured
