@@ -26,6 +26,12 @@ constexpr NodeEngine kNodeEngines[] = {
     {"havok", "Havok (npm @babylonjs/havok 1.3.14, WebAssembly), f32, 3D", false, true, 12000},
     {"box2d3", "Box2D v3.1 (npm box2d3-wasm 5.2.0, WebAssembly), f32, 2D", true, false, 27000},
     {"mujoco3", "MuJoCo 3.3.8 (npm mujoco-js 0.0.7, WebAssembly), f64, 3D and 2D", true, true, 5000},
+    // The web's own (docs/engines.md, the web's engines).
+    {"planck", "planck.js 1.4.2 (npm planck 1.4.2, Box2D 2 ported to JavaScript), f64, 2D", true, false, 7000},
+    {"p2", "p2 (npm p2-es 1.2.3, JavaScript), f64, 2D", true, false, 4000},
+    {"oimo", "Oimo.js 1.0.9 (npm oimo 1.0.9, JavaScript), f64, 3D", false, true, 4000},
+    {"box2d-wasm", "Box2D 2.4.1, the compiled box2d's version (npm box2d-wasm 7.0.0, WebAssembly), f32, 2D", true, false,
+     1500},
 };
 
 class NodeEngineSimulator final : public Simulator {

@@ -953,9 +953,22 @@ constexpr std::string_view kBox2d3Keys[] = {"restitution_threshold", "wall_resti
 constexpr std::string_view kMujoco3Keys[] = {"solref", "solimp", "damper_anchor", "impedance_correction", "condim",
     "wall_friction", "cone", "integrator", "timestep", "gravity", "impratio", "noslip_iterations", "margin",
     "ball_mass", "beta_hook", "fail_on_warning", "inner_steps"};
+constexpr std::string_view kPlanckKeys[] = {"velocity_threshold", "wall_offset", "linear_slop", "wall_restitution",
+    "wall_friction", "sleeping", "velocity_iterations", "position_iterations", "max_translation", "linear_damping",
+    "angular_damping"};
+constexpr std::string_view kP2Keys[] = {"stiffness", "relaxation", "contact_skin_size", "friction_stiffness",
+    "friction_relaxation", "friction_iterations", "solver_iterations", "solver_tolerance", "damping",
+    "angular_damping", "sleeping", "island_split"};
+constexpr std::string_view kOimoKeys[] = {"units_per_metre", "iterations", "broadphase", "randomizer", "allow_sleep",
+    "wall_friction", "wall_restitution"};
+constexpr std::string_view kBox2dWasmKeys[] = {"length_scale", "restitution_threshold", "wall_restitution",
+    "wall_friction", "combine_override", "skin_compensation", "sleeping", "velocity_iterations", "position_iterations",
+    "warm_starting", "linear_damping", "angular_damping"};
 constexpr HostedEngine kHostedEngines[] = {
     {"rapier", kRapierKeys}, {"jolt", kJoltKeys},     {"physx", kPhysxKeys},
     {"havok", kHavokKeys},   {"box2d3", kBox2d3Keys}, {"mujoco3", kMujoco3Keys},
+    {"planck", kPlanckKeys}, {"p2", kP2Keys},         {"oimo", kOimoKeys},
+    {"box2d-wasm", kBox2dWasmKeys},
 };
 
 }  // namespace
