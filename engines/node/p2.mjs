@@ -27,7 +27,7 @@
 // beta, once, in the step the engine bounces the ball. Friction is 0, so the
 // solver touches only the normal component.
 
-import { serve, ScenarioError, roomWalls, movesIntoWall, ownKey, count0, count1, nonNegative, trueOrFalse } from './host/protocol.mjs';
+import { serve, ScenarioError, roomWalls, movesIntoWall, ownKey, count0, count1, nonNegative, positive, trueOrFalse } from './host/protocol.mjs';
 
 const ownKeys = {
   stiffness: 'ContactMaterial.stiffness of the ball-wall contact (default 1e12; p2 default 1e6, which softens the bounce)',
@@ -52,10 +52,6 @@ function planeAngle(w) {
   if (w.axis === 1) return w.side < 0 ? 0 : Math.PI;
   return w.side < 0 ? -Math.PI / 2 : Math.PI / 2;
 }
-
-// stiffness and friction_stiffness: any number > 0, Infinity (JSON 1e999) too,
-// as this adapter has always taken them.
-const positive = [(x) => typeof x === 'number' && x > 0, 'a number > 0'];
 
 const adapter = {
   name: 'p2',
