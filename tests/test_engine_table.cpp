@@ -78,6 +78,17 @@ TEST(EngineTable, EachRowReadsItsSimulatorsFiguresAgainstExact) {
     EXPECT_EQ(cells[9], "1234");
 }
 
+TEST(EngineTable, TheApexesComparedAreTheThreeAfterTheStartAsTheLawsCheckTakesThem) {
+    json a = simulator("a");
+    a["comparison"]["vs_exact"]["bounces"][0]["rel_diff"] = 0.04;
+    json exact = {{"simulator", "exact"}, {"status", "ok"}, {"apexes", {{{"t", 0.0}, {"height", 1.0}}}}};
+    // The start is an apex (exact's first at t = 0): apexes 1-3 are compared.
+    EXPECT_EQ(row_of(engine_table_markdown(report_of({exact, a})), "s", "a").at(5), "2.000%");
+    // The ball starts moving up: its first apex is a bounce's, compared too.
+    exact["apexes"][0]["t"] = 0.4;
+    EXPECT_EQ(row_of(engine_table_markdown(report_of({exact, a})), "s", "a").at(5), "4.000%");
+}
+
 TEST(EngineTable, WhatARowLacksOrHoldsAsAnotherTypeShowsAsADash) {
     json odd = simulator("odd|name");
     odd["ns_per_step"] = "fast";
