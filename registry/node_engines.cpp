@@ -30,6 +30,9 @@ constexpr NodeEngine kNodeEngines[] = {
     {"planck", "planck.js 1.4.2 (npm planck 1.4.2, Box2D 2 ported to JavaScript), f64, 2D", true, false, 7000},
     {"p2", "p2 (npm p2-es 1.2.3, JavaScript), f64, 2D", true, false, 4000},
     {"oimo", "Oimo.js 1.0.9 (npm oimo 1.0.9, JavaScript), f64, 3D", false, true, 4000},
+    {"cannon", "cannon-es 0.20.0 (npm cannon-es 0.20.0, JavaScript), f64, 3D", false, true, 6000},
+    {"ammo", "Bullet 2.82 as asm.js (npm ammo.js 0.0.10), f32, 3D", false, true, 7000},
+    {"matter", "matter-js 0.20.0 (npm matter-js 0.20.0, JavaScript), f64, 2D", true, false, 9000},
     {"box2d-wasm", "Box2D 2.4.1, the compiled box2d's version (npm box2d-wasm 7.0.0, WebAssembly), f32, 2D", true, false,
      1500},
 };

@@ -961,6 +961,16 @@ constexpr std::string_view kP2Keys[] = {"stiffness", "relaxation", "contact_skin
     "angular_damping", "sleeping", "island_split"};
 constexpr std::string_view kOimoKeys[] = {"units_per_metre", "iterations", "broadphase", "randomizer", "allow_sleep",
     "wall_friction", "wall_restitution"};
+constexpr std::string_view kCannonKeys[] = {"restitution", "contact_stiffness", "contact_relaxation",
+    "friction_stiffness", "friction_relaxation", "iterations", "tolerance", "linear_damping", "angular_damping",
+    "allow_sleep", "quat_normalize_fast", "walls", "inertia", "friction_gravity", "density"};
+constexpr std::string_view kAmmoKeys[] = {"wall_restitution", "wall_friction", "rolling_friction", "walls",
+    "contact_processing_threshold", "contact_breaking_threshold", "split_impulse",
+    "split_impulse_penetration_threshold", "erp", "erp2", "iterations", "warm_starting", "linear_damping",
+    "angular_damping", "allow_sleep", "stepping", "ccd_motion_threshold", "solver_info"};
+constexpr std::string_view kMatterKeys[] = {"units_per_metre", "circle_sides", "circle_fit", "resting_thresh",
+    "resting_thresh_tangent", "position_dampen", "position_warming", "slop", "friction_air", "friction_static",
+    "position_iterations", "velocity_iterations", "sleeping"};
 constexpr std::string_view kBox2dWasmKeys[] = {"length_scale", "restitution_threshold", "wall_restitution",
     "wall_friction", "combine_override", "skin_compensation", "sleeping", "velocity_iterations", "position_iterations",
     "warm_starting", "linear_damping", "angular_damping"};
@@ -968,6 +978,7 @@ constexpr HostedEngine kHostedEngines[] = {
     {"rapier", kRapierKeys}, {"jolt", kJoltKeys},     {"physx", kPhysxKeys},
     {"havok", kHavokKeys},   {"box2d3", kBox2d3Keys}, {"mujoco3", kMujoco3Keys},
     {"planck", kPlanckKeys}, {"p2", kP2Keys},         {"oimo", kOimoKeys},
+    {"cannon", kCannonKeys}, {"ammo", kAmmoKeys},     {"matter", kMatterKeys},
     {"box2d-wasm", kBox2dWasmKeys},
 };
 

@@ -52,9 +52,10 @@ inline constexpr double kMaxSteps = 1e12;
 // file validates the same on every build): a scenario's [thresholds.<name>]
 // may name one, and an external simulator may not take one's name. The
 // engines are all of them but the first two.
-inline constexpr std::array<std::string_view, 20> kBuiltInSimulators{
+inline constexpr std::array<std::string_view, 23> kBuiltInSimulators{
     "reference", "exact",  "bullet", "ode",   "box2d",  "mujoco",  "chipmunk", "siconos", "siconos-ed", "dart",
-    "rapier",    "jolt",   "physx",  "havok", "box2d3", "mujoco3", "planck",   "p2",      "oimo",       "box2d-wasm"};
+    "rapier",    "jolt",   "physx",  "havok", "box2d3", "mujoco3", "planck",   "p2",      "oimo",       "cannon",
+    "ammo",      "matter", "box2d-wasm"};
 std::span<const std::string_view> built_in_engines();
 
 // The engines hosted by Node (engines/node/<name>.mjs, docs/engines.md):

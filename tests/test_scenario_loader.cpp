@@ -403,7 +403,8 @@ TEST(ScenarioLoaderInvalid, ThresholdUnknownSimulator) {
     EXPECT_TRUE(single_error(std::string(kValid) + "[thresholds.warp]\ntrajectory_rms = 0.1\n", "thresholds.warp", 16,
                              13,
                              "unknown simulator (known: reference, exact, bullet, ode, box2d, mujoco, chipmunk, siconos, "
-                             "siconos-ed, dart, rapier, jolt, physx, havok, box2d3, mujoco3, planck, p2, oimo, box2d-wasm)"));
+                             "siconos-ed, dart, rapier, jolt, physx, havok, box2d3, mujoco3, planck, p2, oimo, cannon, "
+                             "ammo, matter, box2d-wasm)"));
     EXPECT_TRUE(single_error(std::string(kValid) + "[thresholds]\nBullet = {trajectory_rms = 0.1}\n",
                              "thresholds.Bullet", 17, 1, "unknown simulator"));
 }
