@@ -319,6 +319,29 @@ TEST(NodeEngineFindings, CannonsRelaxationMakesTheBounceDependOnWhereInTheStepIt
         << ::testing::PrintToString(relaxed.failures);
 }
 
+// ammo.js 0.0.10's world.getSolverInfo() returns a copy (its IDL binds it by
+// value), so solver settings made through it never reach the world: split
+// impulse then leaves overlaps shallower than 4 cm to Baumgarte, which adds
+// 0.2 p / dt to the bounce (btSequentialImpulseConstraintSolver.cpp:707-731).
+// The damping verdict fails with the measured values; the adapter writes the
+// world's own solver info and meets the law's check. A release that binds it
+// by reference fails the first half (docs/engines.md, ammo.js, A1 and A2).
+TEST(NodeEngineFindings, AmmosSolverSettingsThroughItsBindingNeverReachTheWorld) {
+    const Simulator& ammo = node_engine("ammo");
+    Scenario s = per_contact_fine(load_scenario(kScenarios + "/seed-3d.toml"), "ammo");
+    const LawCheck chosen = check_law(s, ammo);
+    EXPECT_TRUE(chosen.passed) << ::testing::PrintToString(chosen.failures) << "\n" << chosen.table;
+    ASSERT_TRUE(chosen.alpha_measured);
+    EXPECT_NEAR(*chosen.alpha_measured, 0.8, 0.01);
+    s.passthrough_tables["ammo"] = R"({"solver_info": "binding"})";
+    const LawCheck binding = check_law(s, ammo);
+    EXPECT_FALSE(binding.passed);
+    ASSERT_TRUE(binding.alpha_measured);
+    EXPECT_GT(*binding.alpha_measured, 0.85) << binding.damping_verdict;
+    EXPECT_NE(::testing::PrintToString(binding.failures).find("damping:"), std::string::npos)
+        << ::testing::PrintToString(binding.failures);
+}
+
 // ------------------------------------------------- the defaults put back
 
 // What a case measures in a run.

