@@ -71,24 +71,48 @@ std::string short_precision(const std::string& precision) {
 std::string percent(std::optional<double> v) { return v ? fmt::format("{:.3f}%", 100 * *v) : "-"; }
 std::string fixed(std::optional<double> v, int digits) { return v ? fmt::format("{:.{}f}", *v, digits) : "-"; }
 
+// What each row is judged against: exact's run of the same scenario.
+struct ExactBaseline {
+    std::optional<double> first_floor_contact;  // exact's first floor contact (s)
+    std::size_t first_apex = 1;  // 1 where the start is itself an apex (exact's first at t = 0), else 0
+};
+
+// The time of a simulator's first floor contact (first_floor_contacts[0].t).
+std::optional<double> first_floor_contact(const json& simulator) {
+    const json* contacts = member(simulator, "first_floor_contacts");
+    if (!contacts || !contacts->is_array() || contacts->empty()) return std::nullopt;
+    return number(member(contacts->front(), "t"));
+}
+
+ExactBaseline exact_baseline(const json& simulators) {
+    ExactBaseline out;
+    for (const json& simulator : simulators)
+        if (text(member(simulator, "simulator")) == "exact") {
+            out.first_floor_contact = first_floor_contact(simulator);
+            const json* apexes = member(simulator, "apexes");
+            if (apexes && apexes->is_array() && !apexes->empty())
+                out.first_apex = number(member(apexes->front(), "t")) == 0.0 ? 1 : 0;
+        }
+    return out;
+}
+
 // The first floor contact's time against exact's, relative; the worst of the
-// three apexes after the start, relative to exact's height above the floor:
-// both from the comparison with exact (comparison.vs_exact.bounces, in
-// order), as the law's check judges them (api/law_check.cpp). `first` is 1
-// where the start is itself an apex (exact's first at t = 0), else 0.
+// three apexes after the start, relative to exact's height above the floor
+// (comparison.vs_exact.bounces, in order): as the law's check judges them
+// (api/law_check.cpp).
 struct AgainstExact {
     std::optional<double> first_contact, worst_apex;
     int apexes = 0;  // of the three that both have
 };
 
-AgainstExact against_exact(const json& simulator, std::size_t first) {
+AgainstExact against_exact(const json& simulator, const ExactBaseline& exact) {
     AgainstExact out;
+    const auto t = first_floor_contact(simulator);
+    if (t && exact.first_floor_contact && *exact.first_floor_contact != 0)
+        out.first_contact = std::abs(*t - *exact.first_floor_contact) / std::abs(*exact.first_floor_contact);
     const json* bounces = at(simulator, {"comparison", "vs_exact", "bounces"});
-    if (!bounces || !bounces->is_array() || bounces->empty()) return out;
-    const json& start = bounces->front();
-    const auto t = number(member(start, "contact_t")), t0 = number(member(start, "baseline_contact_t"));
-    if (t && t0 && *t0 != 0) out.first_contact = std::abs(*t - *t0) / std::abs(*t0);
-    for (std::size_t k = first; k < bounces->size() && k < first + 3; ++k)
+    if (!bounces || !bounces->is_array()) return out;
+    for (std::size_t k = exact.first_apex; k < bounces->size() && k < exact.first_apex + 3; ++k)
         if (const auto rel = number(member((*bounces)[k], "rel_diff"))) {
             out.worst_apex = std::max(out.worst_apex.value_or(0), std::abs(*rel));
             ++out.apexes;
@@ -96,18 +120,7 @@ AgainstExact against_exact(const json& simulator, std::size_t first) {
     return out;
 }
 
-// 1 where exact's first apex is the start (t = 0), else 0.
-std::size_t first_compared_apex(const json& simulators) {
-    for (const json& simulator : simulators)
-        if (text(member(simulator, "simulator")) == "exact") {
-            const json* apexes = member(simulator, "apexes");
-            if (apexes && apexes->is_array() && !apexes->empty())
-                return number(member(apexes->front(), "t")) == 0.0 ? 1 : 0;
-        }
-    return 1;
-}
-
-std::string row(const std::string& scenario, const json& simulator, std::size_t first_apex) {
+std::string row(const std::string& scenario, const json& simulator, const ExactBaseline& exact) {
     const std::string name = cell(text(member(simulator, "simulator")));
     const std::string status = text(member(simulator, "status"));
     const std::string engine = cell(short_engine(setting(simulator, "engine")));
@@ -115,7 +128,7 @@ std::string row(const std::string& scenario, const json& simulator, std::size_t 
     if (status != "ok")
         return fmt::format("| {} | {} | {} | {} | {} | | | | | |\n", cell(scenario), name, engine, precision,
                            cell(status.empty() ? "no status" : status));
-    const AgainstExact e = against_exact(simulator, first_apex);
+    const AgainstExact e = against_exact(simulator, exact);
     const json* damping = at(simulator, {"comparison", "damping"});
     static const json no_damping = json::object();
     const json& d = damping ? *damping : no_damping;
@@ -144,9 +157,9 @@ std::string engine_table_markdown(const json& report) {
         const std::string name = text(at(sc, {"scenario", "name"}));
         const json* simulators = member(sc, "simulators");
         if (!simulators || !simulators->is_array()) continue;
-        const std::size_t first_apex = first_compared_apex(*simulators);
+        const ExactBaseline exact = exact_baseline(*simulators);
         for (const json& simulator : *simulators)
-            if (text(member(simulator, "status")) != "skipped") out += row(name, simulator, first_apex);  // else: not its dimension
+            if (text(member(simulator, "status")) != "skipped") out += row(name, simulator, exact);  // else: not its dimension
     }
     return out;
 }

@@ -51,7 +51,8 @@ Command add_table_command(CLI::App& app) {
     command->add_option("report", opt->report, "A report.json, or a run's output folder")->required();
     command->add_option("--out", opt->out, "Write the table to this file (default: standard output)");
     set_exit_status_help(*command, {{kOk, "the table was written"},
-                                   {kBadInput, "bad input: a file that is not a run report, with the reason"}});
+                                   {kBadInput, "bad input: a file that is not a run report, or an --out that "
+                                               "cannot be written, with the reason"}});
     return {command, [opt] { return command_table(*opt); }};
 }
 

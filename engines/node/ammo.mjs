@@ -251,13 +251,15 @@ function build(A, s, settings) {
   // ---- Contacts, from the dispatcher's manifolds after the step ----
   const wallPtrs = wallBodies.map((b) => b.ptr);
   const touching = new Array(walls.length).fill(false);
-  const fixed = new Set();  // manifolds whose breaking threshold was written
   function readContacts() {
     touching.fill(false);
     const n = dispatcher.getNumManifolds();
     for (let i = 0; i < n; ++i) {
       const m = dispatcher.getManifoldByIndexInternal(i);
-      if (breaking >= 0 && !fixed.has(m.ptr)) { setBreaking(m, breaking); fixed.add(m.ptr); }
+      // Bullet pools its manifolds: one freed and reused keeps no threshold
+      // of ours, so the value is checked in memory at every step.
+      if (breaking >= 0 && (manifoldBodies < 0 || A.HEAPF32[(m.ptr >> 2) + manifoldBodies + 3] !== Math.fround(breaking)))
+        setBreaking(m, breaking);
       const k = m.getNumContacts();
       if (k === 0) continue;
       const b0 = m.getBody0().ptr, b1 = m.getBody1().ptr;

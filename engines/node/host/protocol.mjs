@@ -176,7 +176,7 @@ function readScenario(text, adapter) {
   if (!adapter.dimensions.includes(s.dimension)) fail(`${adapter.name} cannot run a ${s.dimension}D scenario`);
   const given = s.engine && typeof s.engine === 'object' ? s.engine : {};
   for (const key of Object.keys(given))
-    if (!SHARED_KEYS.has(key) && !(key in adapter.ownKeys))
+    if (!SHARED_KEYS.has(key) && !Object.hasOwn(adapter.ownKeys, key))  // not "constructor", "toString"...
       fail(`[engines.${adapter.name}] has no key "${key}" (its own keys: ${Object.keys(adapter.ownKeys).join(', ') || 'none'})`);
   const engine = { tangential_model: 'friction', friction: 0, rotation: 'free', substeps: 1, ...given };
   const where = `[engines.${adapter.name}]`;
@@ -217,8 +217,10 @@ export const anIntegerAtLeast = (min) => [(x) => Number.isInteger(x) && x >= min
 export const anIntegerIn = (min, max) => [(x) => Number.isInteger(x) && x >= min && x <= max, `an integer ${min}..${max}`];
 export const nonNegative = aNumberAtLeast(0);    // a number >= 0
 export const positive = aNumberAbove(0);         // a number > 0
-export const count0 = anIntegerAtLeast(0);       // an integer >= 0
-export const count1 = anIntegerAtLeast(1);       // an integer >= 1
+// Counts stop at int32's largest: the WebAssembly engines take them as 32-bit
+// integers, where 2^32 would wrap to 0.
+export const count0 = anIntegerIn(0, 2 ** 31 - 1);
+export const count1 = anIntegerIn(1, 2 ** 31 - 1);
 export const trueOrFalse = [(x) => typeof x === 'boolean', 'true or false'];
 // One of the given values (compared with ===): "PGS" or "TGS"; "auto", 1, 3, 4 or 6.
 export function oneOf(...values) {
